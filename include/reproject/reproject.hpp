@@ -1,0 +1,92 @@
+// reproject: synthesise another eye's view from one view (colour + depth) by moving each pixel
+// horizontally by its parallax (DESIGN.md). One entry point; every method shares the decoder, the
+// per-row parallax decode and the resolve stage, so their outputs mean the same thing.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "reproject/depth.hpp"
+#include "reproject/image.hpp"
+#include "reproject/parallax.hpp"
+#include "reproject/status.hpp"
+
+namespace reproject {
+
+// How a target pixel searches its row for the source pixel that lands on it (DESIGN §6).
+enum class Method : std::uint8_t {
+  scanline,  // one source pixel a step over the allowed range: exact inside it, O(range)
+  march16,   // fixed march (Options::march_steps, default 16), re-projection with the hit sample
+  single,    // one depth sample at the probe parallax, re-projected
+  secant,    // adaptive march over the parallax the row can reach, then secant refinement
+  exact,     // forward sweep in occlusion-compatible order: the reference
+};
+constexpr int kMethodCount = 5;
+const char* to_string(Method method) noexcept;
+bool parse_method(const char* name, Method* out) noexcept;
+
+// Per target pixel, in the optional status plane.
+enum class PixelStatus : std::uint8_t {
+  hit = 0,      // the ray meets the surface on a segment that is not a wall
+  hole = 1,     // the ray meets a wall (disocclusion): filled per HoleFill
+  outside = 2,  // the crossing lies off the source row: colour per EdgeMode
+  clipped = 3,  // the surface is nearer than the allowed negative parallax at the ray's near end
+};
+
+enum class HoleFill : std::uint8_t {
+  background,  // colour and depth of the wall's farther endpoint ("repeat background")
+  foreground,  // of its nearer endpoint
+  none,        // colour and depth of hole pixels are not written
+};
+
+enum class EdgeMode : std::uint8_t {
+  clamp,  // outside pixels take the edge pixel's colour and depth
+  none,   // outside pixels' colour and depth are not written (status only)
+};
+
+struct Options {
+  Method method = Method::exact;
+  // Largest crossed ("out of the screen") parallax the search allows, in pixels, >= 0: the ray's
+  // near end has parallax p_near = sign(b) * max_negative_parallax. Unset: the most negative
+  // parallax present in the frame (one pass over the depth), so nothing is clipped.
+  std::optional<float> max_negative_parallax;
+  float hole_threshold = 1.0f;  // tau, pixels (>= 0): segment [j, j+1] is a wall if p[j+1] - p[j] > tau
+  HoleFill hole_fill = HoleFill::background;
+  EdgeMode edge = EdgeMode::clamp;
+  int guard = 0;  // guard band columns on each side of the source: target width = source width - 2 guard
+  std::optional<float> probe_parallax;  // `single`: parallax of its one sample; unset: a (infinity)
+  int march_steps = 16;                 // `march16`: number of equal steps (1..1024)
+  int secant_max_steps = 64;            // `secant`: most march steps per 16-pixel tile (1..4096)
+};
+
+// The view being reprojected. Depth and colour have the same size: the target's width plus
+// 2 * guard columns, and its height.
+struct SourceView {
+  ColorView color;
+  FloatPlane depth;
+};
+
+// Outputs. Colour is required (same channel count and layout as the source); depth (same
+// encoding as the source), status (PixelStatus bytes) and source_x (x* in source columns, i.e.
+// counted from the source's first column, guard band included) are written when their data
+// pointer is non-null. No output may overlap an input or another output.
+struct TargetView {
+  MutableColorView color;
+  MutableFloatPlane depth;
+  BytePlane status;
+  MutableFloatPlane source_x;
+};
+
+// Reprojects `source` into `target`. Validates everything once, then runs the method over every
+// row. A frame of width or height 0 is valid and writes nothing.
+Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target) noexcept;
+
+// Centre view to both eyes in one call: `centre_to_right` is the model for the right eye
+// (e.g. StereoCamera::parallax(width, EyeDirection::centre_to_right)); the left eye uses its
+// mirror (-a, -b). Each eye's default near limit is its own frame's.
+Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder,
+                      const ParallaxModel& centre_to_right, const Options& options,
+                      const TargetView& left, const TargetView& right) noexcept;
+
+}  // namespace reproject

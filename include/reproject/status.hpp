@@ -1,0 +1,45 @@
+// Errors are values: every public call that can fail returns a Status.
+// Nothing in the library throws across the API, and building a Status never allocates.
+#pragma once
+
+#include <cstddef>
+
+namespace reproject {
+
+enum class StatusCode : int {
+  ok = 0,
+  null_pointer,      // a required buffer pointer is null
+  invalid_size,      // a negative width or height, or a guard band that leaves no target columns
+  invalid_stride,    // a row stride smaller than the row (in elements)
+  size_mismatch,     // buffers that must agree in size, channel count or layout do not
+  aliasing,          // an output buffer overlaps an input buffer or another output
+  invalid_decoder,   // depth decoder parameters out of range (near <= 0, far <= near, non-finite, ...)
+  invalid_model,     // parallax model parameters non-finite or degenerate (convergence <= 0, ...)
+  invalid_option,    // an Options field out of range (negative threshold, steps < 1, ...)
+};
+
+// Short stable name of a code, e.g. "invalid_stride".
+const char* to_string(StatusCode code) noexcept;
+
+class Status {
+ public:
+  Status() noexcept = default;  // ok
+  // printf-style message; truncated to fit the fixed buffer.
+  Status(StatusCode code, const char* format, ...) noexcept
+#if defined(__GNUC__)
+      __attribute__((format(printf, 3, 4)))
+#endif
+      ;
+
+  bool ok() const noexcept { return code_ == StatusCode::ok; }
+  explicit operator bool() const noexcept { return ok(); }
+  StatusCode code() const noexcept { return code_; }
+  // Human-readable: what was wrong and with which value. "ok" when ok.
+  const char* message() const noexcept { return ok() ? "ok" : message_; }
+
+ private:
+  StatusCode code_ = StatusCode::ok;
+  char message_[192] = {};
+};
+
+}  // namespace reproject
