@@ -1,1 +1,189 @@
-// in progress
+// The stages every method shares: the plan, the per-row parallax decode and the resolve stage
+// (DESIGN §5–§6 "One resolve stage for all"), and the row driver.
+#include "kernels/frame.hpp"
+
+#include <algorithm>
+
+namespace reproject {
+namespace detail {
+namespace {
+
+float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi); }
+
+// The nearest key s * p in the whole frame: the default near end of every ray (DESIGN §5), so
+// that nothing is clipped.
+float nearest_key_in_frame(const Frame& f) {
+  float nearest = f.key_far;
+  for (int y = 0; y < f.height; ++y) {
+    const float* depth = f.source.depth.row(y);
+    for (int i = 0; i < f.source_width; ++i) nearest = std::max(nearest, f.s * decode_parallax(f, depth[i]));
+  }
+  return nearest;
+}
+
+void decode_parallax_row(const Frame& f, const float* depth, float* parallax) {
+  for (int i = 0; i < f.source_width; ++i) parallax[i] = decode_parallax(f, depth[i]);
+  std::fill(parallax - f.pad_left, parallax, parallax[0]);
+  std::fill(parallax + f.source_width, parallax + f.source_width + f.pad_right, parallax[f.source_width - 1]);
+}
+
+// Reads channel c of source pixel i and writes target pixel t, for either layout.
+struct RowIo {
+  const float* src[4];
+  float* dst[4];
+  int channels;
+  int pixel_step;  // 1 planar, 4 interleaved
+
+  RowIo(const Frame& f, int y) {
+    channels = f.source.color.channels;
+    const bool interleaved = f.source.color.layout == ColorLayout::interleaved_rgba;
+    pixel_step = interleaved ? 4 : 1;
+    for (int c = 0; c < channels; ++c) {
+      const int plane = interleaved ? 0 : c;
+      const int offset = interleaved ? c : 0;
+      src[c] = f.source.color.plane[plane].row(y) + offset;
+      dst[c] = f.target.color.plane[plane].row(y) + offset;
+    }
+  }
+  float source(int c, int i) const { return src[c][static_cast<std::ptrdiff_t>(i) * pixel_step]; }
+  float& target(int c, int t) const { return dst[c][static_cast<std::ptrdiff_t>(t) * pixel_step]; }
+};
+
+// Output depth between two stored values, in the space where a plane is linear: the stored value
+// for affine encodings, 1/d for linear depth.
+float interpolate_depth(const Frame& f, float d0, float d1, float frac) {
+  if (f.affine) return std::fma(frac, d1 - d0, d0);
+  const float w0 = 1.0f / d0;
+  const float w1 = 1.0f / d1;
+  return 1.0f / std::fma(frac, w1 - w0, w0);
+}
+
+void resolve_row(const Frame& f, int y, const RowScratch& scratch) {
+  const RowIo io(f, y);
+  const float* parallax = scratch.parallax;
+  const float* depth = f.source.depth.row(y);
+  float* depth_out = f.target.depth.data ? f.target.depth.row(y) : nullptr;
+  std::uint8_t* status_out = f.target.status.data ? f.target.status.row(y) : nullptr;
+  float* x_out = f.target.source_x.data ? f.target.source_x.row(y) : nullptr;
+  const int last = f.source_width - 1;
+  const float last_column = static_cast<float>(last);
+
+  for (int t = 0; t < f.target_width; ++t) {
+    const float x = scratch.source_x[t];
+    PixelStatus status;
+    // Interpolation between columns j0 and j1 at `frac`; a fill copies column j0 (frac 0).
+    int j0;
+    int j1;
+    float frac;
+    bool write = true;
+    if (scratch.clipped[t] || x < 0.0f || x > last_column) {
+      status = scratch.clipped[t] ? PixelStatus::clipped : PixelStatus::outside;
+      const float xc = clampf(x, 0.0f, last_column);
+      j0 = static_cast<int>(std::floor(xc));
+      j1 = std::min(j0 + 1, last);
+      frac = xc - static_cast<float>(j0);
+      if (status == PixelStatus::outside) write = f.edge == EdgeMode::clamp;
+    } else {
+      j0 = static_cast<int>(std::floor(x));
+      j1 = std::min(j0 + 1, last);
+      frac = x - static_cast<float>(j0);
+      if (parallax[j1] - parallax[j0] > f.hole_threshold) {
+        // A wall (§5): the farther endpoint has the smaller key s * p.
+        status = PixelStatus::hole;
+        const bool j1_farther = f.s * parallax[j1] < f.s * parallax[j0];
+        const int farther = j1_farther ? j1 : j0;
+        const int nearer = j1_farther ? j0 : j1;
+        j0 = j1 = f.hole_fill == HoleFill::foreground ? nearer : farther;
+        frac = 0.0f;
+        write = f.hole_fill != HoleFill::none;
+      } else {
+        status = PixelStatus::hit;
+      }
+    }
+    if (write) {
+      for (int c = 0; c < io.channels; ++c) {
+        const float c0 = io.source(c, j0);
+        io.target(c, t) = std::fma(frac, io.source(c, j1) - c0, c0);
+      }
+      if (depth_out) depth_out[t] = interpolate_depth(f, depth[j0], depth[j1], frac);
+    }
+    if (status_out) status_out[t] = static_cast<std::uint8_t>(status);
+    if (x_out) x_out[t] = x;
+  }
+}
+
+}  // namespace
+
+Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target) {
+  Frame f;
+  f.source = source;
+  f.target = target;
+  f.source_width = source.depth.width;
+  f.height = source.depth.height;
+  f.guard = options.guard;
+  f.target_width = f.source_width - 2 * options.guard;
+
+  f.a = model.a;
+  f.b = model.b;
+  f.affine = decoder.is_affine();
+  if (f.affine) {
+    f.decode_scale = static_cast<float>(static_cast<double>(model.b) * decoder.A());
+    f.decode_offset = static_cast<float>(static_cast<double>(model.a) + static_cast<double>(model.b) * decoder.B());
+  }
+  f.s = model.b > 0.0f ? 1.0f : -1.0f;
+  f.limit = static_cast<float>(f.source_width + 2);
+  f.p_far = clampf(model.a, -f.limit, f.limit);
+  f.key_far = f.s * f.p_far;
+
+  if (options.max_negative_parallax) {
+    f.key_near = std::max(std::min(*options.max_negative_parallax, f.limit), f.key_far);
+  } else {
+    f.key_near = nearest_key_in_frame(f);
+  }
+  f.p_near = f.s * f.key_near;
+
+  f.hole_threshold = options.hole_threshold;
+  f.hole_fill = options.hole_fill;
+  f.edge = options.edge;
+  f.method = options.method;
+  f.march_steps = options.march_steps;
+  f.march_step = (f.p_far - f.p_near) / static_cast<float>(options.march_steps);
+  f.probe = options.probe_parallax ? clampf(*options.probe_parallax, -f.limit, f.limit) : f.p_far;
+  f.secant_max_steps = options.secant_max_steps;
+
+  // Columns a search may read: x = t' - p for t' in [guard, guard + Wt - 1] and p between the
+  // extremes below, plus one column for interpolation and one for rounding.
+  const float p_max = std::max({f.p_near, f.p_far, f.probe});
+  const float p_min = std::min({f.p_near, f.p_far, f.probe});
+  f.pad_left = static_cast<int>(std::max(0.0f, std::ceil(p_max - static_cast<float>(f.guard)))) + 2;
+  f.pad_right = static_cast<int>(std::max(0.0f, std::ceil(-p_min - static_cast<float>(f.guard)))) + 3;
+  return f;
+}
+
+void run_rows(const Frame& f, int row_begin, int row_end) {
+  thread_local RowScratch scratch;
+  const std::size_t padded = static_cast<std::size_t>(f.pad_left) + f.source_width + f.pad_right;
+  if (scratch.parallax_storage.size() < padded) scratch.parallax_storage.resize(padded);
+  if (scratch.source_x.size() < static_cast<std::size_t>(f.target_width)) {
+    scratch.source_x.resize(f.target_width);
+    scratch.clipped.resize(f.target_width);
+  }
+  float* parallax = scratch.parallax_storage.data() + f.pad_left;
+  scratch.parallax = parallax;
+
+  for (int y = row_begin; y < row_end; ++y) {
+    decode_parallax_row(f, f.source.depth.row(y), parallax);
+    switch (f.method) {
+      case Method::scanline: search_row_scanline(f, scratch); break;
+      case Method::march16: search_row_march(f, scratch); break;
+      case Method::single: search_row_single(f, scratch); break;
+      case Method::secant: search_row_secant(f, scratch); break;
+      case Method::exact: search_row_exact(f, scratch); break;
+    }
+    resolve_row(f, y, scratch);
+  }
+}
+
+}  // namespace detail
+}  // namespace reproject

@@ -1,1 +1,19 @@
-// in progress
+// `single` (DESIGN §6): one point sample at the probe parallax (default: infinity, where the
+// background comes from), re-projected with its own parallax.
+#include "kernels/frame.hpp"
+
+namespace reproject {
+namespace detail {
+
+void search_row_single(const Frame& f, RowScratch& scratch) {
+  const float* parallax = scratch.parallax;
+  for (int t = 0; t < f.target_width; ++t) {
+    const float target = static_cast<float>(t + f.guard);
+    const float surface = point_sample(parallax, target - f.probe);
+    scratch.source_x[t] = target - surface;
+    scratch.clipped[t] = f.s * surface > f.key_near;  // the sample is nearer than allowed
+  }
+}
+
+}  // namespace detail
+}  // namespace reproject

@@ -1,1 +1,225 @@
-// in progress
+// The entry points: validate everything once (never inside the pixel loops), then run the rows.
+#include "reproject/reproject.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+
+#include "kernels/frame.hpp"
+
+namespace reproject {
+namespace {
+
+// Widths above this would make integer column coordinates inexact in float.
+constexpr int kMaxWidth = 1 << 22;
+
+const char* const kMethodNames[kMethodCount] = {"scanline", "march16", "single", "secant", "exact"};
+
+// The address range [begin, end) a plane's rows span.
+struct ByteRange {
+  std::uintptr_t begin = 0;
+  std::uintptr_t end = 0;
+  const char* name = "";
+};
+
+template <class T>
+ByteRange span_of(const PlaneView<T>& plane, int floats_per_pixel, const char* name) {
+  ByteRange range;
+  range.name = name;
+  if (plane.data == nullptr || plane.width <= 0 || plane.height <= 0) return range;
+  const std::uintptr_t element = sizeof(T);
+  const std::uintptr_t last_row = static_cast<std::uintptr_t>(plane.height - 1) * static_cast<std::uintptr_t>(plane.stride);
+  range.begin = reinterpret_cast<std::uintptr_t>(plane.data);
+  range.end = range.begin + (last_row + static_cast<std::uintptr_t>(plane.width) * floats_per_pixel) * element;
+  return range;
+}
+
+bool overlap(const ByteRange& x, const ByteRange& y) {
+  return x.begin < x.end && y.begin < y.end && x.begin < y.end && y.begin < x.end;
+}
+
+template <class T>
+Status check_plane(const PlaneView<T>& plane, int width, int height, int floats_per_pixel, const char* name) {
+  if (plane.data == nullptr) return Status(StatusCode::null_pointer, "%s: data is null", name);
+  if (plane.width < 0 || plane.height < 0)
+    return Status(StatusCode::invalid_size, "%s: negative size %dx%d", name, plane.width, plane.height);
+  if (plane.width != width || plane.height != height)
+    return Status(StatusCode::size_mismatch, "%s: size %dx%d, expected %dx%d", name, plane.width, plane.height, width, height);
+  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(width) * floats_per_pixel;
+  if (plane.stride < row)
+    return Status(StatusCode::invalid_stride, "%s: stride %td is smaller than the row (%td elements)", name, plane.stride, row);
+  return Status();
+}
+
+template <class T>
+Status check_color(const ColorViewT<T>& color, int width, int height, const char* name) {
+  if (color.layout != ColorLayout::planar && color.layout != ColorLayout::interleaved_rgba)
+    return Status(StatusCode::invalid_option, "%s: unknown colour layout %d", name, static_cast<int>(color.layout));
+  const bool interleaved = color.layout == ColorLayout::interleaved_rgba;
+  if (interleaved ? color.channels != 4 : (color.channels < 1 || color.channels > 4))
+    return Status(StatusCode::size_mismatch, "%s: %d channels (planar takes 1..4, interleaved RGBA 4)", name, color.channels);
+  static const char* const kPlaneNames[4] = {"plane 0", "plane 1", "plane 2", "plane 3"};
+  for (int c = 0; c < (interleaved ? 1 : color.channels); ++c) {
+    const Status status = check_plane(color.plane[c], width, height, interleaved ? 4 : 1, kPlaneNames[c]);
+    if (!status.ok()) return Status(status.code(), "%s %s", name, status.message());
+  }
+  return Status();
+}
+
+Status check_options(const Options& options) {
+  if (static_cast<unsigned>(options.method) >= static_cast<unsigned>(kMethodCount))
+    return Status(StatusCode::invalid_option, "method: unknown value %d", static_cast<int>(options.method));
+  if (options.hole_fill != HoleFill::background && options.hole_fill != HoleFill::foreground && options.hole_fill != HoleFill::none)
+    return Status(StatusCode::invalid_option, "hole_fill: unknown value %d", static_cast<int>(options.hole_fill));
+  if (options.edge != EdgeMode::clamp && options.edge != EdgeMode::none)
+    return Status(StatusCode::invalid_option, "edge: unknown value %d", static_cast<int>(options.edge));
+  if (!(options.hole_threshold >= 0.0f) || !std::isfinite(options.hole_threshold))
+    return Status(StatusCode::invalid_option, "hole_threshold: %g is not a finite value >= 0", options.hole_threshold);
+  if (options.guard < 0) return Status(StatusCode::invalid_option, "guard: %d is negative", options.guard);
+  if (options.march_steps < 1 || options.march_steps > 1024)
+    return Status(StatusCode::invalid_option, "march_steps: %d is outside 1..1024", options.march_steps);
+  if (options.secant_max_steps < 1 || options.secant_max_steps > 4096)
+    return Status(StatusCode::invalid_option, "secant_max_steps: %d is outside 1..4096", options.secant_max_steps);
+  if (options.max_negative_parallax &&
+      (!(*options.max_negative_parallax >= 0.0f) || !std::isfinite(*options.max_negative_parallax)))
+    return Status(StatusCode::invalid_option, "max_negative_parallax: %g is not a finite value >= 0",
+                  *options.max_negative_parallax);
+  if (options.probe_parallax && !std::isfinite(*options.probe_parallax))
+    return Status(StatusCode::invalid_option, "probe_parallax: %g is not finite", *options.probe_parallax);
+  return Status();
+}
+
+// Everything but the target: the decoder, the model, the options and the source.
+Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                    const Options& options) {
+  Status status = decoder.validate();
+  if (!status.ok()) return status;
+  status = model.validate();
+  if (!status.ok()) return status;
+  status = check_options(options);
+  if (!status.ok()) return status;
+  const FloatPlane& depth = source.depth;
+  if (depth.width < 0 || depth.height < 0)
+    return Status(StatusCode::invalid_size, "source depth: negative size %dx%d", depth.width, depth.height);
+  if (depth.width > kMaxWidth)
+    return Status(StatusCode::invalid_size, "source depth: width %d is above the maximum %d", depth.width, kMaxWidth);
+  if (depth.width == 0 || depth.height == 0) return Status();
+  status = check_plane(depth, depth.width, depth.height, 1, "source depth");
+  if (!status.ok()) return status;
+  status = check_color(source.color, depth.width, depth.height, "source colour");
+  if (!status.ok()) return status;
+  if (depth.width - 2 * static_cast<long long>(options.guard) < 1)
+    return Status(StatusCode::invalid_size, "guard: %d columns on each side leave no target columns of a %d-wide source",
+                  options.guard, depth.width);
+  return Status();
+}
+
+Status check_target(const SourceView& source, const Options& options, const TargetView& target, const char* name) {
+  const int width = source.depth.width - 2 * options.guard;
+  const int height = source.depth.height;
+  char label[64];
+  std::snprintf(label, sizeof label, "%s colour", name);
+  Status status = check_color(target.color, width, height, label);
+  if (!status.ok()) return status;
+  if (target.color.layout != source.color.layout || target.color.channels != source.color.channels)
+    return Status(StatusCode::size_mismatch, "%s: %d channels %s, the source has %d %s", label, target.color.channels,
+                  target.color.layout == ColorLayout::planar ? "planar" : "interleaved",
+                  source.color.channels, source.color.layout == ColorLayout::planar ? "planar" : "interleaved");
+  if (target.depth.data) {
+    std::snprintf(label, sizeof label, "%s depth", name);
+    if (!(status = check_plane(target.depth, width, height, 1, label)).ok()) return status;
+  }
+  if (target.status.data) {
+    std::snprintf(label, sizeof label, "%s status", name);
+    if (!(status = check_plane(target.status, width, height, 1, label)).ok()) return status;
+  }
+  if (target.source_x.data) {
+    std::snprintf(label, sizeof label, "%s source_x", name);
+    if (!(status = check_plane(target.source_x, width, height, 1, label)).ok()) return status;
+  }
+  return Status();
+}
+
+// Outputs may overlap neither an input nor each other.
+Status check_aliasing(const SourceView& source, const TargetView* const* targets, int target_count) {
+  ByteRange inputs[5];
+  int input_count = 0;
+  const bool source_interleaved = source.color.layout == ColorLayout::interleaved_rgba;
+  inputs[input_count++] = span_of(source.depth, 1, "source depth");
+  for (int c = 0; c < (source_interleaved ? 1 : source.color.channels); ++c)
+    inputs[input_count++] = span_of(source.color.plane[c], source_interleaved ? 4 : 1, "source colour");
+
+  ByteRange outputs[16];
+  int output_count = 0;
+  for (int i = 0; i < target_count; ++i) {
+    const TargetView& target = *targets[i];
+    const bool interleaved = target.color.layout == ColorLayout::interleaved_rgba;
+    for (int c = 0; c < (interleaved ? 1 : target.color.channels); ++c)
+      outputs[output_count++] = span_of(target.color.plane[c], interleaved ? 4 : 1, "target colour");
+    outputs[output_count++] = span_of(target.depth, 1, "target depth");
+    outputs[output_count++] = span_of(target.status, 1, "target status");
+    outputs[output_count++] = span_of(target.source_x, 1, "target source_x");
+  }
+  for (int o = 0; o < output_count; ++o) {
+    for (int i = 0; i < input_count; ++i)
+      if (overlap(outputs[o], inputs[i]))
+        return Status(StatusCode::aliasing, "%s overlaps %s", outputs[o].name, inputs[i].name);
+    for (int p = o + 1; p < output_count; ++p)
+      if (overlap(outputs[o], outputs[p]))
+        return Status(StatusCode::aliasing, "%s overlaps %s", outputs[o].name, outputs[p].name);
+  }
+  return Status();
+}
+
+bool empty_frame(const SourceView& source) { return source.depth.width == 0 || source.depth.height == 0; }
+
+}  // namespace
+
+const char* to_string(Method method) noexcept {
+  const unsigned index = static_cast<unsigned>(method);
+  return index < static_cast<unsigned>(kMethodCount) ? kMethodNames[index] : "unknown";
+}
+
+bool parse_method(const char* name, Method* out) noexcept {
+  if (name == nullptr) return false;
+  for (int i = 0; i < kMethodCount; ++i) {
+    if (std::strcmp(name, kMethodNames[i]) == 0) {
+      if (out) *out = static_cast<Method>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target) noexcept {
+  Status status = check_inputs(source, decoder, model, options);
+  if (!status.ok() || empty_frame(source)) return status;
+  if (!(status = check_target(source, options, target, "target")).ok()) return status;
+  const TargetView* targets[1] = {&target};
+  if (!(status = check_aliasing(source, targets, 1)).ok()) return status;
+
+  const detail::Frame frame = detail::make_frame(source, decoder, model, options, target);
+  detail::run_rows(frame, 0, frame.height);
+  return Status();
+}
+
+Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder, const ParallaxModel& centre_to_right,
+                      const Options& options, const TargetView& left, const TargetView& right) noexcept {
+  const ParallaxModel centre_to_left{-centre_to_right.a, -centre_to_right.b};
+  Status status = check_inputs(centre, decoder, centre_to_right, options);
+  if (!status.ok() || empty_frame(centre)) return status;
+  if (!(status = check_target(centre, options, left, "left")).ok()) return status;
+  if (!(status = check_target(centre, options, right, "right")).ok()) return status;
+  const TargetView* targets[2] = {&left, &right};
+  if (!(status = check_aliasing(centre, targets, 2)).ok()) return status;
+
+  const detail::Frame left_frame = detail::make_frame(centre, decoder, centre_to_left, options, left);
+  detail::run_rows(left_frame, 0, left_frame.height);
+  const detail::Frame right_frame = detail::make_frame(centre, decoder, centre_to_right, options, right);
+  detail::run_rows(right_frame, 0, right_frame.height);
+  return Status();
+}
+
+}  // namespace reproject

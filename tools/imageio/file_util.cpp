@@ -1,0 +1,173 @@
+#include "imageio/file_util.hpp"
+
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+#include <utility>
+
+namespace reproject::io {
+
+const char* to_string(IoError error) noexcept {
+  switch (error) {
+    case IoError::none: return "none";
+    case IoError::invalid_argument: return "invalid_argument";
+    case IoError::open_failed: return "open_failed";
+    case IoError::read_failed: return "read_failed";
+    case IoError::not_this_format: return "not_this_format";
+    case IoError::truncated: return "truncated";
+    case IoError::corrupt: return "corrupt";
+    case IoError::unsupported: return "unsupported";
+    case IoError::out_of_memory: return "out_of_memory";
+    case IoError::write_failed: return "write_failed";
+  }
+  return "unknown";
+}
+
+namespace detail {
+
+IoStatus failure(IoError error, std::string message) {
+  IoStatus status;
+  status.error = error;
+  status.message = std::move(message);
+  return status;
+}
+
+std::string quote_path(const std::string& path) { return "'" + path + "'"; }
+
+std::string system_error_text(int code) { return std::strerror(code); }
+
+InputFile::~InputFile() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+IoStatus InputFile::open(const std::string& path) {
+  errno = 0;
+  file_ = std::fopen(path.c_str(), "rb");
+  if (file_ == nullptr) {
+    const int code = errno;
+    return failure(IoError::open_failed, "cannot open " + quote_path(path) + ": " +
+                                             (code != 0 ? system_error_text(code) : "unknown error"));
+  }
+  return {};
+}
+
+namespace {
+
+// A name no other writer (thread, process) is likely to pick at the same moment; exclusive
+// creation ("x") turns the unlikely collision into a retry instead of a shared file.
+std::string temporary_name(const std::string& destination, int attempt) {
+  static std::atomic<unsigned> counter{0};
+  const auto ticks = static_cast<unsigned long long>(
+      std::chrono::steady_clock::now().time_since_epoch().count());
+  const unsigned serial = counter.fetch_add(1, std::memory_order_relaxed);
+  return destination + ".tmp" + std::to_string(ticks % 1000000007ULL) + "-" + std::to_string(serial) +
+         "-" + std::to_string(attempt);
+}
+
+}  // namespace
+
+ReplacingFile::~ReplacingFile() { discard(); }
+
+void ReplacingFile::discard() noexcept {
+  if (file_ != nullptr) {
+    std::fclose(file_);
+    file_ = nullptr;
+  }
+  if (!temporary_.empty()) {
+    std::remove(temporary_.c_str());
+    temporary_.clear();
+  }
+}
+
+IoStatus ReplacingFile::create(const std::string& destination) {
+  discard();
+  destination_ = destination;
+  int code = 0;
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    std::string name = temporary_name(destination, attempt);
+    errno = 0;
+    file_ = std::fopen(name.c_str(), "wbx");
+    if (file_ != nullptr) {
+      temporary_ = std::move(name);
+      return {};
+    }
+    code = errno;
+    if (code != EEXIST) break;
+  }
+  return failure(IoError::write_failed, "cannot create a temporary file next to " + quote_path(destination) +
+                                            ": " + (code != 0 ? system_error_text(code) : "unknown error"));
+}
+
+IoStatus ReplacingFile::commit() {
+  if (file_ == nullptr) return failure(IoError::write_failed, "no file open for " + quote_path(destination_));
+  errno = 0;
+  const bool flushed = std::fflush(file_) == 0 && std::ferror(file_) == 0;
+  int code = errno;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!closed && code == 0) code = errno;
+  if (!flushed || !closed) {
+    discard();
+    return failure(IoError::write_failed, "cannot write " + quote_path(destination_) + ": " +
+                                              (code != 0 ? system_error_text(code) : "unknown error"));
+  }
+  // std::filesystem::rename replaces an existing destination (also where std::rename would not).
+  std::error_code error;
+  std::filesystem::rename(temporary_, destination_, error);
+  if (error) {
+    discard();
+    return failure(IoError::write_failed, "cannot rename the temporary file onto " + quote_path(destination_) +
+                                              ": " + error.message());
+  }
+  temporary_.clear();
+  return {};
+}
+
+std::uint32_t quantise(float value, std::uint32_t max_value) noexcept {
+  if (!(value > 0.0f)) return 0;  // also NaN
+  const float top = static_cast<float>(max_value);
+  if (value >= top) return max_value;
+  return static_cast<std::uint32_t>(std::round(value));
+}
+
+IoStatus check_writable(const ColorView& color) {
+  const bool interleaved = color.layout == ColorLayout::interleaved_rgba;
+  if (interleaved ? color.channels != 4 : (color.channels < 1 || color.channels > 4)) {
+    return failure(IoError::invalid_argument,
+                   "cannot write an image of " + std::to_string(color.channels) +
+                       " channels (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA; interleaved is RGBA)");
+  }
+  const int planes = interleaved ? 1 : color.channels;
+  const std::ptrdiff_t floats_per_pixel = interleaved ? 4 : 1;
+  const int width = color.plane[0].width;
+  const int height = color.plane[0].height;
+  if (width < 1 || height < 1) {
+    return failure(IoError::invalid_argument, "cannot write an empty image (" + std::to_string(width) +
+                                                  "x" + std::to_string(height) + ")");
+  }
+  for (int c = 0; c < planes; ++c) {
+    const FloatPlane& plane = color.plane[c];
+    if (plane.data == nullptr) {
+      return failure(IoError::invalid_argument, "plane " + std::to_string(c) + " has no data");
+    }
+    if (plane.width != width || plane.height != height) {
+      return failure(IoError::invalid_argument, "plane " + std::to_string(c) + " is " +
+                                                    std::to_string(plane.width) + "x" +
+                                                    std::to_string(plane.height) + ", plane 0 is " +
+                                                    std::to_string(width) + "x" + std::to_string(height));
+    }
+    if (plane.stride < floats_per_pixel * width) {
+      return failure(IoError::invalid_argument, "plane " + std::to_string(c) + " has stride " +
+                                                    std::to_string(plane.stride) + " < row of " +
+                                                    std::to_string(floats_per_pixel * width) + " floats");
+    }
+  }
+  return {};
+}
+
+}  // namespace detail
+}  // namespace reproject::io

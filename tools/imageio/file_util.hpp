@@ -1,0 +1,67 @@
+// Internal to reproject_imageio: pieces every format's reader and writer share.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "imageio/imageio.hpp"
+
+namespace reproject::io::detail {
+
+IoStatus failure(IoError error, std::string message);
+// "'path'" for messages.
+std::string quote_path(const std::string& path);
+// strerror(code) as a string.
+std::string system_error_text(int code);
+
+// Closes on destruction.
+class InputFile {
+ public:
+  InputFile() = default;
+  ~InputFile();
+  InputFile(const InputFile&) = delete;
+  InputFile& operator=(const InputFile&) = delete;
+
+  IoStatus open(const std::string& path);
+  std::FILE* get() const noexcept { return file_; }
+
+ private:
+  std::FILE* file_ = nullptr;
+};
+
+// A file written under a temporary name in the destination's directory and renamed onto the
+// destination by commit(); destroyed uncommitted, it closes and deletes the temporary file, so the
+// destination is either the complete new file or untouched.
+class ReplacingFile {
+ public:
+  ReplacingFile() = default;
+  ~ReplacingFile();
+  ReplacingFile(const ReplacingFile&) = delete;
+  ReplacingFile& operator=(const ReplacingFile&) = delete;
+
+  IoStatus create(const std::string& destination);
+  std::FILE* get() const noexcept { return file_; }
+  // Flushes, closes and renames onto the destination. Any failure removes the temporary file.
+  IoStatus commit();
+
+ private:
+  void discard() noexcept;
+  std::FILE* file_ = nullptr;
+  std::string destination_;
+  std::string temporary_;
+};
+
+// Nearest integer in [0, max_value]; NaN gives 0. Ties round away from zero.
+std::uint32_t quantise(float value, std::uint32_t max_value) noexcept;
+
+// Checks that `color` can be written: 1-4 channels (4 when interleaved), a non-empty size, data
+// present, strides covering the row, every plane the same size.
+IoStatus check_writable(const ColorView& color);
+// Sample c of pixel x in row y, whatever the layout.
+inline float sample(const ColorView& color, int c, int x, int y) noexcept {
+  if (color.layout == ColorLayout::interleaved_rgba) return color.plane[0].row(y)[4 * x + c];
+  return color.plane[c].row(y)[x];
+}
+
+}  // namespace reproject::io::detail
