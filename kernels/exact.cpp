@@ -12,25 +12,23 @@ namespace reproject {
 namespace detail {
 namespace {
 
-// Target pixels t' covered by [q0, q1) (b < 0) or (q0, q1] (b > 0), as a half-open range of
-// target indices t = t' - guard, clipped to the row. The side that is closed matches the
-// gather definition: a ray that reaches the surface exactly at a column end hits there.
+// The first target column t' that a surface point at integer column j with parallax p reaches
+// or passes: t' >= j + p when b < 0, t' > j + p when b > 0 (segments cover [q(j), q(j+1)) and
+// (q(j), q(j+1)] respectively). Decided on the integer t' - j against p, so it is exact and agrees
+// bit for bit with the gather's sign test (t' - j) - p at a column.
+int first_target_reached(const Frame& f, int column, float p) {
+  return column + static_cast<int>(f.s < 0.0f ? std::ceil(p) : std::floor(p) + 1.0f);
+}
+
+// Target indices t = t' - guard in [begin, end), clipped to the row.
 struct Span {
   int begin;
   int end;
 };
-Span covered(const Frame& f, float q0, float q1) {
-  float lo, hi;
-  if (f.s < 0.0f) {
-    lo = std::ceil(q0);
-    hi = std::ceil(q1);
-  } else {
-    lo = std::floor(q0) + 1.0f;
-    hi = std::floor(q1) + 1.0f;
-  }
-  const float g = static_cast<float>(f.guard);
-  const float width = static_cast<float>(f.target_width);
-  return Span{static_cast<int>(std::clamp(lo - g, 0.0f, width)), static_cast<int>(std::clamp(hi - g, 0.0f, width))};
+Span target_span(const Frame& f, long long first, long long end) {
+  const long long lo = std::clamp<long long>(first - f.guard, 0, f.target_width);
+  const long long hi = std::clamp<long long>(end - f.guard, 0, f.target_width);
+  return Span{static_cast<int>(lo), static_cast<int>(hi)};
 }
 
 }  // namespace
@@ -40,7 +38,6 @@ void search_row_exact(const Frame& f, RowScratch& scratch) {
   float* xs = scratch.source_x.data();
   const int last = f.source_width - 1;
   const float guard = static_cast<float>(f.guard);
-  const float infinity = std::numeric_limits<float>::infinity();
 
   // With a near limit tighter than the data, parts of the surface are nearer than any ray may
   // start; those are not painted, and rays that start behind the surface are clipped afterwards.
@@ -52,39 +49,38 @@ void search_row_exact(const Frame& f, RowScratch& scratch) {
   }
 
   // An edge extension: beyond the row the surface keeps the edge column's parallax.
-  auto paint_extension = [&](int column, float q0, float q1) {
+  constexpr long long kUnbounded = 1LL << 40;
+  auto paint_extension = [&](int column, const Span& span) {
     const float p = parallax[column];
     if (may_clip && f.s * p > f.key_near) return;
-    const Span span = covered(f, q0, q1);
     for (int t = span.begin; t < span.end; ++t) xs[t] = static_cast<float>(t) + guard - p;
   };
   auto paint_segment = [&](int j) {
     const float p0 = parallax[j];
     const float p1 = parallax[j + 1];
-    const float q0 = static_cast<float>(j) + p0;
-    const float q1 = static_cast<float>(j + 1) + p1;
-    if (!(q1 > q0)) return;  // fold-over: a back face
-    const Span span = covered(f, q0, q1);
-    // frac = (t' - q0) / (q1 - q0), arranged so that (t' - j) and (p1 - p0) are exact: one
-    // rounding on each side of the division instead of three.
+    // Empty for a fold-over (p1 - p0 < -1): a back face.
+    const Span span = target_span(f, first_target_reached(f, j, p0), first_target_reached(f, j + 1, p1));
+    // frac = (t' - q0) / (q1 - q0) with q = column + p, arranged so that (t' - j) and (p1 - p0)
+    // are exact: one rounding on each side of the division. Clamped, for the degenerate case
+    // where the length rounds to 0.
     const float length = 1.0f + (p1 - p0);
     for (int t = span.begin; t < span.end; ++t) {
-      const float frac = ((static_cast<float>(t + f.guard - j)) - p0) / length;
+      const float frac = std::clamp((static_cast<float>(t + f.guard - j) - p0) / length, 0.0f, 1.0f);
       if (may_clip && f.s * std::fma(frac, p1 - p0, p0) > f.key_near) continue;
       xs[t] = static_cast<float>(j) + frac;
     }
   };
 
-  const float left_end = parallax[0];                            // q(0)
-  const float right_end = static_cast<float>(last) + parallax[last];  // q(Ws - 1)
+  const Span left_extension = target_span(f, -kUnbounded, first_target_reached(f, 0, parallax[0]));
+  const Span right_extension = target_span(f, first_target_reached(f, last, parallax[last]), kUnbounded);
   if (f.s < 0.0f) {
-    paint_extension(0, -infinity, left_end);
+    paint_extension(0, left_extension);
     for (int j = 0; j < last; ++j) paint_segment(j);
-    paint_extension(last, right_end, infinity);
+    paint_extension(last, right_extension);
   } else {
-    paint_extension(last, right_end, infinity);
+    paint_extension(last, right_extension);
     for (int j = last - 1; j >= 0; --j) paint_segment(j);
-    paint_extension(0, -infinity, left_end);
+    paint_extension(0, left_extension);
   }
 
   for (int t = 0; t < f.target_width; ++t) scratch.clipped[t] = 0;

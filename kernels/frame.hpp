@@ -96,9 +96,47 @@ inline float intersect(float x_front, float gap_front, float x_behind, float gap
   return std::fma(t, x_behind - x_front, x_front);
 }
 
-// Point sample of march16 / single: column floor(x + 0.5); the padded row makes it the clamped read.
-inline float point_sample(const float* parallax, float x) noexcept {
-  return parallax[static_cast<int>(std::floor(x + 0.5f))];
+// The marching methods work in *offsets* o = x - t' from the target column: a fixed-step
+// sample then has the same offset, integer part and fraction in every lane, so a SIMD twin reads
+// it with contiguous loads and gets the same bits as this scalar reference. t' - x = -o exactly.
+
+// Parallax at offset o from target column t' (o's integer part and fraction are lane-invariant).
+inline float parallax_at_offset(const float* parallax, int target, float offset) noexcept {
+  const float whole = std::floor(offset);
+  const float frac = offset - whole;
+  const float* p = parallax + target + static_cast<int>(whole);
+  return std::fma(frac, p[1] - p[0], p[0]);
+}
+inline float gap_at_offset(const Frame& f, float offset, float surface_parallax) noexcept {
+  return f.s * (-offset - surface_parallax);
+}
+
+// Point sample of march16 / single at ray parallax p: column floor(t' - p + 0.5) = t' + floor(0.5 - p);
+// the padded row makes it the clamped read.
+inline int point_offset(float ray_parallax) noexcept {
+  return static_cast<int>(std::floor(0.5f - ray_parallax));
+}
+
+// The column march shared by `scanline` and `secant`: from offset o_start (gap_start > 0), visit
+// every integer offset strictly between o_start and o_end in direction s, then o_end; return the
+// offset of the first crossing (linear on its segment), or o_end if none is found by rounding.
+inline float march_columns(const Frame& f, const float* parallax, int target, float o_start, float gap_start,
+                           float o_end) noexcept {
+  const bool upwards = f.s > 0.0f;
+  const int first = upwards ? static_cast<int>(std::floor(o_start)) + 1 : static_cast<int>(std::ceil(o_start)) - 1;
+  const int end = upwards ? static_cast<int>(std::ceil(o_end)) : static_cast<int>(std::floor(o_end));
+  const int step = upwards ? 1 : -1;
+  float o_prev = o_start;
+  float gap_prev = gap_start;
+  for (int o = first; upwards ? o < end : o > end; o += step) {
+    const float offset = static_cast<float>(o);
+    const float gap = gap_at_offset(f, offset, parallax[target + o]);
+    if (gap <= 0.0f) return intersect(o_prev, gap_prev, offset, gap);
+    o_prev = offset;
+    gap_prev = gap;
+  }
+  const float gap = gap_at_offset(f, o_end, parallax_at_offset(parallax, target, o_end));
+  return gap <= 0.0f ? intersect(o_prev, gap_prev, o_end, gap) : o_end;
 }
 
 // Each method's search over one row: writes x (source columns) and the clipped flag per target

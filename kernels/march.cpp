@@ -8,14 +8,14 @@ namespace detail {
 void search_row_march(const Frame& f, RowScratch& scratch) {
   const float* parallax = scratch.parallax;
   for (int t = 0; t < f.target_width; ++t) {
-    const float target = static_cast<float>(t + f.guard);
-    float x = target - f.p_far;  // no hit: the far end
+    const int target = t + f.guard;
+    float x = static_cast<float>(target) - f.p_far;  // no hit: the far end
     bool clipped = false;
     for (int k = 0; k <= f.march_steps; ++k) {
       const float ray_parallax = std::fma(static_cast<float>(k), f.march_step, f.p_near);
-      const float surface = point_sample(parallax, target - ray_parallax);
+      const float surface = parallax[target + point_offset(ray_parallax)];
       if (f.s * surface >= f.s * ray_parallax) {  // on or behind
-        x = target - surface;
+        x = static_cast<float>(target) - surface;
         clipped = k == 0 && f.s * surface > f.key_near;
         break;
       }

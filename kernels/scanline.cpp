@@ -1,9 +1,7 @@
 // `scanline` (DESIGN §6): from the near end, one source column a step to the far end; the first
 // sample on or behind the surface ends the march and the crossing is intersected linearly with
 // the previous sample. Samples sit on every integer column in between, so each bracket lies on
-// one linear piece of the surface: exact to rounding inside the allowed range.
-#include <cmath>
-
+// one linear piece of the surface: exact to rounding inside the allowed range. O(range).
 #include "kernels/frame.hpp"
 
 namespace reproject {
@@ -11,38 +9,15 @@ namespace detail {
 
 void search_row_scanline(const Frame& f, RowScratch& scratch) {
   const float* parallax = scratch.parallax;
-  const int direction = f.s > 0.0f ? 1 : -1;
+  const float o_near = -f.p_near;
+  const float o_far = -f.p_far;
   for (int t = 0; t < f.target_width; ++t) {
-    const float target = static_cast<float>(t + f.guard);
-    const float x_near = target - f.p_near;
-    const float x_far = target - f.p_far;
-    float x_prev = x_near;
-    float gap_prev = ray_gap(f, target, x_near, parallax_at(parallax, x_near));
-    scratch.clipped[t] = gap_prev < 0.0f;
-    if (gap_prev <= 0.0f) {  // behind at the near end: clipped; exactly on: a hit there
-      scratch.source_x[t] = x_near;
-      continue;
-    }
-    // Integer columns strictly between x_near and x_far, in march order, then x_far itself.
-    const int first = direction < 0 ? static_cast<int>(std::ceil(x_near)) - 1 : static_cast<int>(std::floor(x_near)) + 1;
-    const int end = direction < 0 ? static_cast<int>(std::floor(x_far)) : static_cast<int>(std::ceil(x_far));
-    float x = x_far;  // if no sample is behind (only by rounding): the far end
-    for (int j = first; direction < 0 ? j > end : j < end; j += direction) {
-      const float column = static_cast<float>(j);
-      const float gap = ray_gap(f, target, column, parallax[j]);
-      if (gap <= 0.0f) {
-        x = intersect(x_prev, gap_prev, column, gap);
-        goto found;
-      }
-      x_prev = column;
-      gap_prev = gap;
-    }
-    {
-      const float gap = ray_gap(f, target, x_far, parallax_at(parallax, x_far));
-      if (gap <= 0.0f) x = intersect(x_prev, gap_prev, x_far, gap);
-    }
-  found:
-    scratch.source_x[t] = x;
+    const int target = t + f.guard;
+    const float gap_near = gap_at_offset(f, o_near, parallax_at_offset(parallax, target, o_near));
+    scratch.clipped[t] = gap_near < 0.0f;
+    // Behind at the near end: clipped; exactly on: a hit there.
+    const float offset = gap_near <= 0.0f ? o_near : march_columns(f, parallax, target, o_near, gap_near, o_far);
+    scratch.source_x[t] = static_cast<float>(target) + offset;
   }
 }
 

@@ -70,37 +70,51 @@ KeyBounds reachable_keys(const Frame& f, const RowScratch& scratch, int t_begin,
   return bounds;
 }
 
-// Secant refinement of a bracket: g(x_front) > 0, g(x_behind) <= 0.
-float refine(const Frame& f, const float* parallax, float target, float x_front, float gap_front,
-             float x_behind, float gap_behind) {
-  float x = intersect(x_front, gap_front, x_behind, gap_behind);
+// Secant refinement of a bracket in offsets: g(o_front) > 0, g(o_behind) <= 0.
+float refine(const Frame& f, const float* parallax, int target, float o_front, float gap_front, float o_behind,
+             float gap_behind) {
+  float offset = intersect(o_front, gap_front, o_behind, gap_behind);
   int last_side = 0;
   for (int iteration = 0; iteration < kSecantIterations; ++iteration) {
-    const float gap = ray_gap(f, target, x, parallax_at(parallax, x));
+    const float gap = gap_at_offset(f, offset, parallax_at_offset(parallax, target, offset));
     if (gap > 0.0f) {
-      x_front = x;
+      o_front = offset;
       gap_front = gap;
       if (last_side > 0) gap_behind *= 0.5f;  // Illinois: the other end has not moved twice
       last_side = 1;
     } else {
-      x_behind = x;
+      o_behind = offset;
       gap_behind = gap;
       if (last_side < 0) gap_front *= 0.5f;
       last_side = -1;
     }
-    const float next = intersect(x_front, gap_front, x_behind, gap_behind);
-    const bool converged = std::fabs(next - x) <= kSecantTolerance;
-    x = next;
+    const float next = intersect(o_front, gap_front, o_behind, gap_behind);
+    const bool converged = std::fabs(next - offset) <= kSecantTolerance;
+    offset = next;
     if (converged) break;
   }
-  return x;
+  return offset;
+}
+
+// The fixed-step march of a span wider than secant_max_steps, then refinement.
+float march_steps(const Frame& f, const float* parallax, int target, float p_start, float gap_start, float p_end) {
+  const float step = (p_end - p_start) / static_cast<float>(f.secant_max_steps);
+  float o_prev = -p_start;
+  float gap_prev = gap_start;
+  for (int k = 1; k <= f.secant_max_steps; ++k) {
+    const float offset = -(k == f.secant_max_steps ? p_end : std::fma(static_cast<float>(k), step, p_start));
+    const float gap = gap_at_offset(f, offset, parallax_at_offset(parallax, target, offset));
+    if (gap <= 0.0f) return refine(f, parallax, target, o_prev, gap_prev, offset, gap);
+    o_prev = offset;
+    gap_prev = gap;
+  }
+  return -p_end;
 }
 
 }  // namespace
 
 void search_row_secant(const Frame& f, RowScratch& scratch) {
   const float* parallax = scratch.parallax;
-  const int direction = f.s > 0.0f ? 1 : -1;
   build_block_table(f, scratch);
 
   for (int t_begin = 0; t_begin < f.target_width; t_begin += kSecantTile) {
@@ -113,52 +127,18 @@ void search_row_secant(const Frame& f, RowScratch& scratch) {
     const float p_end = f.s * key_end;
     const bool starts_at_near_end = key_start == f.key_near;
     const bool column_steps = key_start - key_end <= static_cast<float>(f.secant_max_steps);
-    const float step = (p_end - p_start) / static_cast<float>(f.secant_max_steps);
 
     for (int t = t_begin; t < t_end; ++t) {
-      const float target = static_cast<float>(t + f.guard);
-      const float x_start = target - p_start;
-      const float x_end = target - p_end;
-      float x_prev = x_start;
-      float gap_prev = ray_gap(f, target, x_start, parallax_at(parallax, x_start));
-      scratch.clipped[t] = gap_prev < 0.0f && starts_at_near_end;
-      if (gap_prev <= 0.0f) {
-        scratch.source_x[t] = x_start;
-        continue;
+      const int target = t + f.guard;
+      const float o_start = -p_start;
+      const float gap_start = gap_at_offset(f, o_start, parallax_at_offset(parallax, target, o_start));
+      scratch.clipped[t] = gap_start < 0.0f && starts_at_near_end;
+      float offset = o_start;  // behind or on at the start
+      if (gap_start > 0.0f) {
+        offset = column_steps ? march_columns(f, parallax, target, o_start, gap_start, -p_end)
+                              : march_steps(f, parallax, target, p_start, gap_start, p_end);
       }
-      float x = x_end;
-      bool found = false;
-      if (column_steps) {
-        const int first = direction < 0 ? static_cast<int>(std::ceil(x_start)) - 1 : static_cast<int>(std::floor(x_start)) + 1;
-        const int end = direction < 0 ? static_cast<int>(std::floor(x_end)) : static_cast<int>(std::ceil(x_end));
-        for (int j = first; !found && (direction < 0 ? j > end : j < end); j += direction) {
-          const float column = static_cast<float>(j);
-          const float gap = ray_gap(f, target, column, parallax[j]);
-          if (gap <= 0.0f) {
-            x = intersect(x_prev, gap_prev, column, gap);
-            found = true;
-          }
-          x_prev = column;
-          gap_prev = gap;
-        }
-        if (!found) {
-          const float gap = ray_gap(f, target, x_end, parallax_at(parallax, x_end));
-          if (gap <= 0.0f) x = intersect(x_prev, gap_prev, x_end, gap);
-        }
-      } else {
-        for (int k = 1; !found && k <= f.secant_max_steps; ++k) {
-          const float ray_parallax = k == f.secant_max_steps ? p_end : std::fma(static_cast<float>(k), step, p_start);
-          const float x_k = target - ray_parallax;
-          const float gap = ray_gap(f, target, x_k, parallax_at(parallax, x_k));
-          if (gap <= 0.0f) {
-            x = refine(f, parallax, target, x_prev, gap_prev, x_k, gap);
-            found = true;
-          }
-          x_prev = x_k;
-          gap_prev = gap;
-        }
-      }
-      scratch.source_x[t] = x;
+      scratch.source_x[t] = static_cast<float>(target) + offset;
     }
   }
 }

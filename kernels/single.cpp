@@ -7,10 +7,11 @@ namespace detail {
 
 void search_row_single(const Frame& f, RowScratch& scratch) {
   const float* parallax = scratch.parallax;
+  const int probe_offset = point_offset(f.probe);
   for (int t = 0; t < f.target_width; ++t) {
-    const float target = static_cast<float>(t + f.guard);
-    const float surface = point_sample(parallax, target - f.probe);
-    scratch.source_x[t] = target - surface;
+    const int target = t + f.guard;
+    const float surface = parallax[target + probe_offset];
+    scratch.source_x[t] = static_cast<float>(target) - surface;
     scratch.clipped[t] = f.s * surface > f.key_near;  // the sample is nearer than allowed
   }
 }

@@ -20,12 +20,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // has no other room for it (the header is the contract) and validate() wants to say why.
 enum class Reason : std::uint32_t {
   none = 0,
-  bad_near,            // near not finite or <= 0
-  bad_far,             // far not finite or <= near (standard, gl_ndc, reversed)
-  coefficient_range,   // near/far valid but A or B overflows float
-  matrix_encoding,     // linear/disparity asked of a projection matrix
+  bad_near,                // near not finite or <= 0
+  bad_far,                 // far not finite or <= near (standard, gl_ndc, reversed)
+  coefficient_range,       // near/far valid but A or B overflows float
+  matrix_encoding,         // linear/disparity asked of a projection matrix
   matrix_not_perspective,  // clip w is not proportional to view z, or a needed entry is not finite
-  bad_encoding,        // an encoding value outside the enum
+  bad_encoding,            // an encoding value outside the enum
 };
 
 float reason_nan(Reason reason) noexcept {
@@ -94,12 +94,29 @@ void affine_coefficients(DepthEncoding e, double n, double f, double* A, double*
 // The stored values of an encoding at the near plane and at the far plane (or at infinity).
 void stored_range(DepthEncoding e, double* d_near, double* d_far) noexcept {
   switch (e) {
-    case DepthEncoding::standard: *d_near = 0.0; *d_far = 1.0; return;
-    case DepthEncoding::gl_ndc: *d_near = -1.0; *d_far = 1.0; return;
-    case DepthEncoding::reversed: *d_near = 1.0; *d_far = 0.0; return;
-    case DepthEncoding::infinite: *d_near = 0.0; *d_far = 1.0; return;
-    case DepthEncoding::reversed_infinite: *d_near = 1.0; *d_far = 0.0; return;
-    default: *d_near = *d_far = std::numeric_limits<double>::quiet_NaN(); return;
+    case DepthEncoding::standard:
+      *d_near = 0.0;
+      *d_far = 1.0;
+      return;
+    case DepthEncoding::gl_ndc:
+      *d_near = -1.0;
+      *d_far = 1.0;
+      return;
+    case DepthEncoding::reversed:
+      *d_near = 1.0;
+      *d_far = 0.0;
+      return;
+    case DepthEncoding::infinite:
+      *d_near = 0.0;
+      *d_far = 1.0;
+      return;
+    case DepthEncoding::reversed_infinite:
+      *d_near = 1.0;
+      *d_far = 0.0;
+      return;
+    default:
+      *d_near = *d_far = std::numeric_limits<double>::quiet_NaN();
+      return;
   }
 }
 
@@ -107,13 +124,20 @@ void stored_range(DepthEncoding e, double* d_near, double* d_far) noexcept {
 
 const char* to_string(DepthEncoding encoding) noexcept {
   switch (encoding) {
-    case DepthEncoding::linear: return "linear";
-    case DepthEncoding::standard: return "standard";
-    case DepthEncoding::gl_ndc: return "gl_ndc";
-    case DepthEncoding::reversed: return "reversed";
-    case DepthEncoding::reversed_infinite: return "reversed_infinite";
-    case DepthEncoding::infinite: return "infinite";
-    case DepthEncoding::disparity: return "disparity";
+    case DepthEncoding::linear:
+      return "linear";
+    case DepthEncoding::standard:
+      return "standard";
+    case DepthEncoding::gl_ndc:
+      return "gl_ndc";
+    case DepthEncoding::reversed:
+      return "reversed";
+    case DepthEncoding::reversed_infinite:
+      return "reversed_infinite";
+    case DepthEncoding::infinite:
+      return "infinite";
+    case DepthEncoding::disparity:
+      return "disparity";
   }
   return "unknown";
 }
@@ -227,15 +251,18 @@ Status DepthDecoder::validate() const noexcept {
   const char* name = to_string(encoding_);
   switch (reason_of(A_)) {
     case Reason::bad_near:
-      return Status(StatusCode::invalid_decoder, "%s depth: near plane %g (given, or read off the projection matrix) must be finite and > 0", name,
+      return Status(StatusCode::invalid_decoder,
+                    "%s depth: near plane %g (given, or read off the projection matrix) must be finite and > 0", name,
                     near_);
     case Reason::bad_far:
-      return Status(StatusCode::invalid_decoder, "%s depth: far plane %g (given, or read off the projection matrix) must be finite and > near "
-                    "plane %g", name, far_, near_);
+      return Status(StatusCode::invalid_decoder,
+                    "%s depth: far plane %g (given, or read off the projection matrix) must be finite and > near "
+                    "plane %g",
+                    name, far_, near_);
     case Reason::coefficient_range:
       return Status(StatusCode::invalid_decoder,
-                    "%s depth: near plane %g, far plane %g give decode coefficients A, B outside float range",
-                    name, near_, far_);
+                    "%s depth: near plane %g, far plane %g give decode coefficients A, B outside float range", name,
+                    near_, far_);
     case Reason::matrix_encoding:
       return Status(StatusCode::invalid_decoder,
                     "%s depth cannot be read off a projection matrix (use standard, gl_ndc, reversed, "

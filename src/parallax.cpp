@@ -51,10 +51,14 @@ bool known_direction(EyeDirection d) noexcept {
 
 const char* to_string(EyeDirection direction) noexcept {
   switch (direction) {
-    case EyeDirection::left_to_right: return "left-to-right";
-    case EyeDirection::right_to_left: return "right-to-left";
-    case EyeDirection::centre_to_left: return "centre-to-left";
-    case EyeDirection::centre_to_right: return "centre-to-right";
+    case EyeDirection::left_to_right:
+      return "left-to-right";
+    case EyeDirection::right_to_left:
+      return "right-to-left";
+    case EyeDirection::centre_to_left:
+      return "centre-to-left";
+    case EyeDirection::centre_to_right:
+      return "centre-to-right";
   }
   return "unknown";
 }
@@ -83,10 +87,14 @@ bool parse_direction(const char* name, EyeDirection* out) noexcept {
 // interaxial distance (+ towards the right eye).
 double eye_offset(EyeDirection direction) noexcept {
   switch (direction) {
-    case EyeDirection::left_to_right: return 1.0;
-    case EyeDirection::right_to_left: return -1.0;
-    case EyeDirection::centre_to_left: return -0.5;
-    case EyeDirection::centre_to_right: return 0.5;
+    case EyeDirection::left_to_right:
+      return 1.0;
+    case EyeDirection::right_to_left:
+      return -1.0;
+    case EyeDirection::centre_to_left:
+      return -0.5;
+    case EyeDirection::centre_to_right:
+      return 0.5;
   }
   return std::numeric_limits<double>::quiet_NaN();
 }
@@ -158,8 +166,7 @@ Status ParallaxModel::validate() const noexcept {
 StereoCamera StereoCamera::from_physical(double interocular, double screen_width, double convergence) noexcept {
   StereoCamera camera;
   // A bad screen width or interocular gives a NaN separation, so parallax() refuses it.
-  const bool ok = std::isfinite(screen_width) && screen_width > 0.0 && std::isfinite(interocular) &&
-                  interocular >= 0.0;
+  const bool ok = std::isfinite(screen_width) && screen_width > 0.0 && std::isfinite(interocular) && interocular >= 0.0;
   camera.separation = ok ? interocular / screen_width : std::numeric_limits<double>::quiet_NaN();
   camera.convergence = convergence;
   return camera;

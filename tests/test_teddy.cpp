@@ -232,7 +232,7 @@ TEST(Teddy, DataLoads) {
   ASSERT_TEDDY_LOADED(t);
   EXPECT_EQ(t.width(), 450);
   EXPECT_EQ(t.height(), 375);
-  // The disparities of teddy span roughly 12..53 px (stored 48..212 over the known pixels).
+  // The known disparities of teddy span 12.5 .. 52.75 px (stored 50 .. 211).
   float largest = 0.0f;
   for (int y = 0; y < t.height(); ++y) {
     const float* row = t.disp_left.plane(0).row(y);
@@ -267,7 +267,8 @@ TEST(Teddy, FillRuleTakesTheBackgroundNeighbour) {
   EXPECT_EQ(zero, 0);
 }
 
-// Measured: 150,xxx of the 168,750 pixels are scored.
+// Measured: 149,369 of the 168,750 pixels (88.5%) are scored. The rest: unknown right-view
+// disparity (3,662), partners beyond the left view's right edge, and left-right inconsistencies.
 TEST(Teddy, ScoredPixelCountIsPlausible) {
   const Teddy& t = teddy();
   ASSERT_TEDDY_LOADED(t);
@@ -275,8 +276,8 @@ TEST(Teddy, ScoredPixelCountIsPlausible) {
   const long scored = std::count(mask.begin(), mask.end(), std::uint8_t{1});
   const long total = static_cast<long>(t.width()) * t.height();
   std::printf("[ teddy    ] scored pixels: %ld of %ld (%.1f%%)\n", scored, total, 100.0 * scored / total);
-  EXPECT_GT(scored, total * 80 / 100);
-  EXPECT_LT(scored, total * 95 / 100);
+  EXPECT_GT(scored, total * 85 / 100);
+  EXPECT_LT(scored, total * 92 / 100);
 }
 
 struct Floor {
@@ -285,14 +286,18 @@ struct Floor {
   double max_mae;   // grey levels
 };
 
-// Measured on this pair (PSNR dB / MAE): see the table printed by the test.
-// TODO(floors): set after measurement.
+// Each method's floor sits a little below what it measured on this pair with default Options
+// (PSNR dB / MAE grey levels over 149,369 scored pixels; not moving the pixels at all: 12.86 / 39.06):
+//   scanline 29.16 / 5.034, march16 27.78 / 5.352, single 20.40 / 11.19, secant 29.16 / 5.034,
+//   exact 29.16 / 5.034.
+// scanline and secant score as exact does; march16 and single lose what DESIGN §6 expects them to
+// (stair-steps on steep slopes, ghosts at depth edges).
 constexpr Floor kFloors[] = {
-    {Method::scanline, 0.0, 1e9},
-    {Method::march16, 0.0, 1e9},
-    {Method::single, 0.0, 1e9},
-    {Method::secant, 0.0, 1e9},
-    {Method::exact, 28.5, 1e9},
+    {Method::scanline, 29.0, 5.2},
+    {Method::march16, 27.5, 5.5},
+    {Method::single, 20.0, 11.5},
+    {Method::secant, 29.0, 5.2},
+    {Method::exact, 29.0, 5.2},
 };
 
 TEST(Teddy, EveryMethodReachesItsFloor) {
@@ -303,13 +308,15 @@ TEST(Teddy, EveryMethodReachesItsFloor) {
 
   const Score unwarped = score(t.left, t.right, mask);
   std::printf("[ teddy    ] %-9s %8s %8s %8s %7s %7s\n", "method", "PSNR dB", "MAE", "scored", "hit %", "hole %");
-  std::printf("[ teddy    ] %-9s %8.2f %8.3f %8ld\n", "(none)", unwarped.psnr, unwarped.mae, unwarped.pixels);
+  std::printf("[ teddy    ] %-9s %8.3f %8.3f %8ld\n", "(none)", unwarped.psnr, unwarped.mae, unwarped.pixels);
+  double psnr[reproject::kMethodCount] = {};
   for (const Floor& floor : kFloors) {
     SCOPED_TRACE(reproject::to_string(floor.method));
     const Reprojected r = reproject_left(t, disparity, floor.method, EyeDirection::left_to_right);
     ASSERT_TRUE(r.status.ok()) << r.status.message();
     const Score s = score(r.color, t.right, mask);
-    std::printf("[ teddy    ] %-9s %8.2f %8.3f %8ld %7.2f %7.2f\n", reproject::to_string(floor.method), s.psnr,
+    psnr[static_cast<int>(floor.method)] = s.psnr;
+    std::printf("[ teddy    ] %-9s %8.3f %8.3f %8ld %7.2f %7.2f\n", reproject::to_string(floor.method), s.psnr,
                 s.mae, s.pixels, 100.0 * status_share(r, mask, PixelStatus::hit),
                 100.0 * status_share(r, mask, PixelStatus::hole));
     EXPECT_GE(s.psnr, floor.min_psnr);
@@ -317,6 +324,11 @@ TEST(Teddy, EveryMethodReachesItsFloor) {
     // Reprojection must do much better than not moving the pixels at all.
     EXPECT_GT(s.psnr, unwarped.psnr + 5.0);
   }
+  // scanline is exact inside the allowed range (the whole range by default) and secant refines to
+  // 1e-3 px: both must score as exact does.
+  const double exact = psnr[static_cast<int>(Method::exact)];
+  EXPECT_NEAR(psnr[static_cast<int>(Method::scanline)], exact, 0.02);
+  EXPECT_NEAR(psnr[static_cast<int>(Method::secant)], exact, 0.05);
 }
 
 TEST(Teddy, ExactReaches28_5dB) {
@@ -328,7 +340,8 @@ TEST(Teddy, ExactReaches28_5dB) {
   ASSERT_TRUE(r.status.ok()) << r.status.message();
   const Score s = score(r.color, t.right, mask);
   EXPECT_GE(s.psnr, 28.5);
-  // Pixels visible in both views are hits, almost never holes or outside.
+  // Pixels visible in both views are hits, almost never holes or outside (measured: 99.10% hits,
+  // 0.83% holes).
   EXPECT_GT(status_share(r, mask, PixelStatus::hit), 0.98);
 }
 
@@ -344,6 +357,7 @@ TEST(Teddy, WrongSignScoresFarLower) {
   const Score good = score(right.color, t.right, mask);
   const Score bad = score(wrong.color, t.right, mask);
   std::printf("[ teddy    ] exact, p = -d: %.2f dB; p = +d (wrong sign): %.2f dB\n", good.psnr, bad.psnr);
+  // Measured: 29.16 dB against 11.48 dB, worse than not moving the pixels (12.86 dB).
   EXPECT_LT(bad.psnr, good.psnr - 10.0);
 }
 

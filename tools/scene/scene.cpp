@@ -64,10 +64,35 @@ double detail(double u, double v, std::uint32_t seed) {
   return 0.65 * (value_noise(u, v, seed) - 0.5) + 0.35 * (value_noise(4.0 * u, 4.0 * v, seed + 1) - 0.5);
 }
 
-bool odd_cell(double u, double v) {
-  const auto iu = static_cast<std::int64_t>(std::floor(u));
-  const auto iv = static_cast<std::int64_t>(std::floor(v));
-  return ((iu + iv) & 1) != 0;
+// Texture edges are ramps, not steps: a step is aliased by the one-ray-per-pixel rendering, and
+// then even a perfect reprojection (which must interpolate between pixels) differs from the true
+// other eye at every texel edge, drowning the geometric errors the demo is meant to show. The
+// ramps are narrow (kEdge of a cell on each side of the edge), so a misplaced pixel still shows.
+constexpr double kEdge = 0.04;
+
+// Square wave of period 2 in u (0 on even cells, 1 on odd ones) with linear ramps of half-width
+// kEdge around each integer, passing 0.5 at the integer.
+double soft_parity(double u) {
+  const double cell = std::floor(u);
+  const double own = (static_cast<std::int64_t>(cell) & 1) != 0 ? 1.0 : 0.0;
+  const double f = u - cell;
+  const double edge_distance = std::min(f, 1.0 - f);
+  const double weight = edge_distance >= kEdge ? 1.0 : 0.5 + 0.5 * edge_distance / kEdge;
+  return own * weight + (1.0 - own) * (1.0 - weight);
+}
+
+// Checkerboard, the soft exclusive-or of the two square waves.
+double soft_checker(double u, double v) {
+  const double a = soft_parity(u), b = soft_parity(v);
+  return a + b - 2.0 * a * b;
+}
+
+// 1 within `half_width` of an integer of u, falling linearly to 0 over `ramp` beyond (all in
+// units of u): a joint line.
+double soft_line(double u, double half_width, double ramp) {
+  const double f = u - std::floor(u);
+  const double d = std::min(f, 1.0 - f);
+  return std::min(1.0, std::max(0.0, (half_width + ramp - d) / ramp));
 }
 
 float clamp01(double x) { return static_cast<float>(std::min(1.0, std::max(0.0, x))); }
@@ -136,7 +161,7 @@ void build_room(Scene* s) {
   {
     const float a[3] = {0.95f, 0.95f, 0.95f}, b[3] = {0.85f, 0.10f, 0.10f};
     Scene::Object o = make_object("pole", Shape::cylinder_y, Material::bands, {-0.8, 0.75, 8.0}, a, b, 0.15);
-    o.radius = 2.0 * 8.0 * std::tan(0.5235987755982988) / 1920.0;
+    o.radius = 2.0 * 8.0 * std::tan(0.5 * kDefaultHorizontalFov) / 1920.0;
     o.half = {0, 2.25, 0};  // y from the floor to 3, above the top of the image
     s->add(o);
   }
@@ -405,9 +430,7 @@ bool Scene::intersect(const Object& o, const Ray& ray, double t_max, double* t_o
   return true;
 }
 
-void Scene::shade(const Object& o, const Vec3& p, const Vec3& n, const double uv[2],
-                  float rgb[3]) const noexcept {
-  (void)p;
+void Scene::shade(const Object& o, const Vec3& n, const double uv[2], float rgb[3]) const noexcept {
   const double inv = 1.0 / o.scale;
   const double u = uv[0] * inv, v = uv[1] * inv;
   const std::uint32_t seed = static_cast<std::uint32_t>(&o - objects_.data()) * 7919u + 17u;
@@ -417,25 +440,25 @@ void Scene::shade(const Object& o, const Vec3& p, const Vec3& n, const double uv
   switch (o.material) {
     case Material::floor_tiles:
     case Material::checker:
-      mix = odd_cell(u, v) ? 1.0 : 0.0;
+      mix = soft_checker(u, v);
       break;
     case Material::stripes:
-      mix = (static_cast<std::int64_t>(std::floor(u)) & 1) != 0 ? 1.0 : 0.0;
+      mix = soft_parity(u);
       break;
     case Material::bands:
-      mix = (static_cast<std::int64_t>(std::floor(v)) & 1) != 0 ? 1.0 : 0.0;
+      mix = soft_parity(v);
       noise_amp = 0.08;
       break;
     case Material::bricks: {
       // Bricks `scale` wide and scale/2 high; every other course offset by half a brick. Each
-      // brick gets its own shade between a and b; 2 cm mortar joints.
+      // brick gets its own shade between a and b (the step between bricks is hidden under the
+      // mortar); 2 cm mortar joints with 1.5 cm ramps.
       const double row = std::floor(v * 2.0);
       const double bu = u + (static_cast<std::int64_t>(row) & 1 ? 0.5 : 0.0);
       const double col = std::floor(bu);
       mix = cell_value(static_cast<std::int64_t>(col), static_cast<std::int64_t>(row), seed + 5);
-      const double joint = 0.02 * inv;  // in brick units
-      const double fu = bu - col, fv = v * 2.0 - row;
-      if (fu < joint || fv < 2.0 * joint) mortar = 1.0;
+      const double half_joint = 0.01 * inv, ramp = 0.015 * inv;  // in brick widths
+      mortar = std::max(soft_line(bu, half_joint, ramp), soft_line(v * 2.0, 2.0 * half_joint, 2.0 * ramp));
       break;
     }
   }
@@ -472,7 +495,7 @@ bool Scene::trace(const Ray& ray, Hit* hit) const noexcept {
     hit->z = ray.origin.z + t * ray.direction.z;
     hit->point = at(ray, t);
     hit->object = best_index;
-    shade(o, hit->point, normal, uv, hit->rgb);
+    shade(o, normal, uv, hit->rgb);
   }
   return true;
 }

@@ -30,6 +30,8 @@ namespace reproject::scene {
 constexpr double kLeftEye = -0.5;
 constexpr double kCentreEye = 0.0;
 constexpr double kRightEye = 0.5;
+// Default horizontal field of view: 60 degrees, in radians.
+constexpr double kDefaultHorizontalFov = 1.0471975511965976;
 
 // Built-in scenes. Add new ones at the end, with a builder in scene.cpp and a name in to_string.
 enum class SceneId : std::uint8_t {
@@ -51,7 +53,7 @@ struct Ray {
 struct Camera {
   int width = 1920;
   int height = 1080;
-  double horizontal_fov = 1.0471975511965976;  // radians (60 degrees)
+  double horizontal_fov = kDefaultHorizontalFov;  // radians
   StereoCamera stereo;                         // separation S, convergence c
   double sigma = kCentreEye;                   // eye offset: kLeftEye, kCentreEye, kRightEye
 
@@ -112,7 +114,7 @@ class Scene {
   StereoCamera recommended_stereo() const noexcept;
   // A camera of this scene: the recommended stereo parameters, the given size and eye.
   Camera camera(int width, int height, double sigma = kCentreEye,
-                double horizontal_fov = 1.0471975511965976) const noexcept;
+                double horizontal_fov = kDefaultHorizontalFov) const noexcept;
 
   // Object names, e.g. "pole", "edge_box", "near_sphere"; index = Hit::object.
   int object_count() const noexcept { return static_cast<int>(objects_.size()); }
@@ -158,8 +160,8 @@ class Scene {
  private:
   bool intersect(const Object& o, const Ray& ray, double t_max, double* t, Vec3* normal,
                  double uv[2]) const noexcept;
-  void shade(const Object& o, const Vec3& p, const Vec3& normal, const double uv[2],
-             float rgb[3]) const noexcept;
+  // Colour from the surface alone (object, normal, texture coordinates): never from the ray.
+  void shade(const Object& o, const Vec3& normal, const double uv[2], float rgb[3]) const noexcept;
 
   SceneId id_ = SceneId::room;
   std::vector<Object> objects_;
