@@ -33,7 +33,8 @@ Span target_span(const Frame& f, long long first, long long end) {
 
 }  // namespace
 
-void search_row_exact(const Frame& f, RowScratch& scratch) {
+template <class Fma>
+void search_row_exact(const Frame& f, RowScratch& scratch, int, int) {
   const float* parallax = scratch.parallax;
   float* xs = scratch.source_x.data();
   const int last = f.source_width - 1;
@@ -66,7 +67,7 @@ void search_row_exact(const Frame& f, RowScratch& scratch) {
     const float length = 1.0f + (p1 - p0);
     for (int t = span.begin; t < span.end; ++t) {
       const float frac = std::clamp((static_cast<float>(t + f.guard - j) - p0) / length, 0.0f, 1.0f);
-      if (may_clip && f.s * std::fma(frac, p1 - p0, p0) > f.key_near) continue;
+      if (may_clip && f.s * Fma::madd(frac, p1 - p0, p0) > f.key_near) continue;
       xs[t] = static_cast<float>(j) + frac;
     }
   };
@@ -88,13 +89,16 @@ void search_row_exact(const Frame& f, RowScratch& scratch) {
     for (int t = 0; t < f.target_width; ++t) {
       const float target = static_cast<float>(t) + guard;
       const float x_near = target - f.p_near;
-      if (ray_gap(f, target, x_near, parallax_at(parallax, x_near)) < 0.0f) {
+      if (f.s * ((target - x_near) - parallax_at<Fma>(parallax, x_near)) < 0.0f) {
         xs[t] = x_near;
         scratch.clipped[t] = 1;
       }
     }
   }
 }
+
+template void search_row_exact<Fused>(const Frame&, RowScratch&, int, int);
+template void search_row_exact<Unfused>(const Frame&, RowScratch&, int, int);
 
 }  // namespace detail
 }  // namespace reproject

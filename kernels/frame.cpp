@@ -10,19 +10,7 @@ namespace {
 
 float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi); }
 
-// The nearest key s * p in the whole frame: the default near end of every ray (DESIGN §5), so
-// that nothing is clipped.
-float nearest_key_in_frame(const Frame& f) {
-  float nearest = f.key_far;
-  for (int y = 0; y < f.height; ++y) {
-    const float* depth = f.source.depth.row(y);
-    for (int i = 0; i < f.source_width; ++i) nearest = std::max(nearest, f.s * decode_parallax(f, depth[i]));
-  }
-  return nearest;
-}
-
-void decode_parallax_row(const Frame& f, const float* depth, float* parallax) {
-  for (int i = 0; i < f.source_width; ++i) parallax[i] = decode_parallax(f, depth[i]);
+void pad_parallax_row(const Frame& f, float* parallax) {
   std::fill(parallax - f.pad_left, parallax, parallax[0]);
   std::fill(parallax + f.source_width, parallax + f.source_width + f.pad_right, parallax[f.source_width - 1]);
 }
@@ -51,14 +39,23 @@ struct RowIo {
 
 // Output depth between two stored values, in the space where a plane is linear: the stored value
 // for affine encodings, 1/d for linear depth.
+template <class Fma>
 float interpolate_depth(const Frame& f, float d0, float d1, float frac) {
-  if (f.affine) return std::fma(frac, d1 - d0, d0);
+  if (f.affine) return Fma::madd(frac, d1 - d0, d0);
   const float w0 = 1.0f / d0;
   const float w1 = 1.0f / d1;
-  return 1.0f / std::fma(frac, w1 - w0, w0);
+  return 1.0f / Fma::madd(frac, w1 - w0, w0);
 }
 
-void resolve_row(const Frame& f, int y, const RowScratch& scratch) {
+}  // namespace
+
+template <class Fma>
+void decode_parallax_columns(const Frame& f, const float* depth, float* parallax, int begin, int end) {
+  for (int i = begin; i < end; ++i) parallax[i] = decode_parallax<Fma>(f, depth[i]);
+}
+
+template <class Fma>
+void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begin, int t_end) {
   const RowIo io(f, y);
   const float* parallax = scratch.parallax;
   const float* depth = f.source.depth.row(y);
@@ -68,7 +65,7 @@ void resolve_row(const Frame& f, int y, const RowScratch& scratch) {
   const int last = f.source_width - 1;
   const float last_column = static_cast<float>(last);
 
-  for (int t = 0; t < f.target_width; ++t) {
+  for (int t = t_begin; t < t_end; ++t) {
     const float x = scratch.source_x[t];
     PixelStatus status;
     // Interpolation between columns j0 and j1 at `frac`; a fill copies column j0 (frac 0).
@@ -103,19 +100,85 @@ void resolve_row(const Frame& f, int y, const RowScratch& scratch) {
     if (write) {
       for (int c = 0; c < io.channels; ++c) {
         const float c0 = io.source(c, j0);
-        io.target(c, t) = std::fma(frac, io.source(c, j1) - c0, c0);
+        io.target(c, t) = Fma::madd(frac, io.source(c, j1) - c0, c0);
       }
-      if (depth_out) depth_out[t] = interpolate_depth(f, depth[j0], depth[j1], frac);
+      if (depth_out) depth_out[t] = interpolate_depth<Fma>(f, depth[j0], depth[j1], frac);
     }
     if (status_out) status_out[t] = static_cast<std::uint8_t>(status);
     if (x_out) x_out[t] = x;
   }
 }
 
+template void decode_parallax_columns<Fused>(const Frame&, const float*, float*, int, int);
+template void decode_parallax_columns<Unfused>(const Frame&, const float*, float*, int, int);
+template void resolve_pixels<Fused>(const Frame&, int, const RowScratch&, int, int);
+template void resolve_pixels<Unfused>(const Frame&, int, const RowScratch&, int, int);
+
+namespace {
+
+// The scalar references as whole-row kernels.
+template <class Fma>
+void scalar_decode(const Frame& f, const float* depth, float* parallax) {
+  decode_parallax_columns<Fma>(f, depth, parallax, 0, f.source_width);
+}
+template <class Fma, void (*Search)(const Frame&, RowScratch&, int, int)>
+void scalar_search(const Frame& f, RowScratch& scratch) {
+  Search(f, scratch, 0, f.target_width);
+}
+template <class Fma>
+void scalar_resolve(const Frame& f, int y, const RowScratch& scratch) {
+  resolve_pixels<Fma>(f, y, scratch, 0, f.target_width);
+}
+template <class Fma>
+KernelTable make_scalar_table(const char* name) {
+  KernelTable table{};
+  table.name = name;
+  table.decode = scalar_decode<Fma>;
+  table.search[static_cast<int>(Method::scanline)] = scalar_search<Fma, search_row_scanline<Fma>>;
+  table.search[static_cast<int>(Method::march16)] = scalar_search<Fma, search_row_march<Fma>>;
+  table.search[static_cast<int>(Method::single)] = scalar_search<Fma, search_row_single<Fma>>;
+  table.search[static_cast<int>(Method::secant)] = scalar_search<Fma, search_row_secant<Fma>>;
+  table.search[static_cast<int>(Method::exact)] = scalar_search<Fma, search_row_exact<Fma>>;
+  table.resolve = scalar_resolve<Fma>;
+  return table;
+}
+
+// Scratch for the calling thread, reused across rows and calls.
+RowScratch& thread_scratch(const Frame& f) {
+  thread_local RowScratch scratch;
+  const std::size_t padded = static_cast<std::size_t>(f.pad_left) + f.source_width + f.pad_right;
+  if (scratch.parallax_storage.size() < padded) scratch.parallax_storage.resize(padded);
+  if (scratch.source_x.size() < static_cast<std::size_t>(f.target_width)) {
+    scratch.source_x.resize(f.target_width);
+    scratch.clipped.resize(f.target_width);
+  }
+  scratch.parallax = scratch.parallax_storage.data() + f.pad_left;
+  return scratch;
+}
+
+// The nearest key s * p in the whole frame: the default near end of every ray (DESIGN §5), so
+// that nothing is clipped. Decoded with the same kernels as the rows.
+float nearest_key_in_frame(const Frame& f, const KernelTable& kernels) {
+  RowScratch& scratch = thread_scratch(f);
+  float* parallax = scratch.parallax_storage.data();
+  float nearest = f.key_far;
+  for (int y = 0; y < f.height; ++y) {
+    kernels.decode(f, f.source.depth.row(y), parallax);
+    for (int i = 0; i < f.source_width; ++i) nearest = std::max(nearest, f.s * parallax[i]);
+  }
+  return nearest;
+}
+
 }  // namespace
 
+const KernelTable& scalar_kernels(bool fused) {
+  static const KernelTable fused_table = make_scalar_table<Fused>("scalar");
+  static const KernelTable unfused_table = make_scalar_table<Unfused>("scalar-unfused");
+  return fused ? fused_table : unfused_table;
+}
+
 Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
-                 const Options& options, const TargetView& target) {
+                 const Options& options, const TargetView& target, const KernelTable& kernels) {
   Frame f;
   f.source = source;
   f.target = target;
@@ -139,7 +202,7 @@ Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
   if (options.max_negative_parallax) {
     f.key_near = std::max(std::min(*options.max_negative_parallax, f.limit), f.key_far);
   } else {
-    f.key_near = nearest_key_in_frame(f);
+    f.key_near = nearest_key_in_frame(f, kernels);
   }
   f.p_near = f.s * f.key_near;
 
@@ -161,27 +224,15 @@ Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
   return f;
 }
 
-void run_rows(const Frame& f, int row_begin, int row_end) {
-  thread_local RowScratch scratch;
-  const std::size_t padded = static_cast<std::size_t>(f.pad_left) + f.source_width + f.pad_right;
-  if (scratch.parallax_storage.size() < padded) scratch.parallax_storage.resize(padded);
-  if (scratch.source_x.size() < static_cast<std::size_t>(f.target_width)) {
-    scratch.source_x.resize(f.target_width);
-    scratch.clipped.resize(f.target_width);
-  }
+void run_rows(const Frame& f, const KernelTable& kernels, int row_begin, int row_end) {
+  RowScratch& scratch = thread_scratch(f);
   float* parallax = scratch.parallax_storage.data() + f.pad_left;
-  scratch.parallax = parallax;
-
+  const SearchRow search = kernels.search[static_cast<int>(f.method)];
   for (int y = row_begin; y < row_end; ++y) {
-    decode_parallax_row(f, f.source.depth.row(y), parallax);
-    switch (f.method) {
-      case Method::scanline: search_row_scanline(f, scratch); break;
-      case Method::march16: search_row_march(f, scratch); break;
-      case Method::single: search_row_single(f, scratch); break;
-      case Method::secant: search_row_secant(f, scratch); break;
-      case Method::exact: search_row_exact(f, scratch); break;
-    }
-    resolve_row(f, y, scratch);
+    kernels.decode(f, f.source.depth.row(y), parallax);
+    pad_parallax_row(f, parallax);
+    search(f, scratch);
+    kernels.resolve(f, y, scratch);
   }
 }
 

@@ -62,10 +62,22 @@ struct RowScratch {
   const float* parallax = nullptr;  // column 0 of the padded row
 };
 
+// The FMA policy. Every multiply-add of the kernels is written through one of these, so a scalar
+// reference and its SIMD twin round alike: Fused for the FMA instruction sets (and the default
+// scalar reference), Unfused for the SSE baseline, which has no FMA. The build sets
+// -ffp-contract=off, so Unfused really is two roundings.
+struct Fused {
+  static float madd(float a, float b, float c) noexcept { return std::fma(a, b, c); }
+};
+struct Unfused {
+  static float madd(float a, float b, float c) noexcept { return a * b + c; }
+};
+
 // The decoded parallax of a stored depth value, made total (BEHAVIOUR.md "Non-finite and
 // out-of-range depth"): NaN or farther than infinity -> p_far; nearer than L -> s * L.
-inline float raw_parallax(const Frame& f, float depth) noexcept {
-  return f.affine ? std::fma(f.decode_scale, depth, f.decode_offset) : std::fma(f.b, 1.0f / depth, f.a);
+template <class Fma>
+float raw_parallax(const Frame& f, float depth) noexcept {
+  return f.affine ? Fma::madd(f.decode_scale, depth, f.decode_offset) : Fma::madd(f.b, 1.0f / depth, f.a);
 }
 inline float clean_parallax(const Frame& f, float p) noexcept {
   const float key = f.s * p;
@@ -73,27 +85,25 @@ inline float clean_parallax(const Frame& f, float p) noexcept {
   if (key > f.limit) return f.s * f.limit;
   return p;
 }
-inline float decode_parallax(const Frame& f, float depth) noexcept {
-  return clean_parallax(f, raw_parallax(f, depth));
+template <class Fma>
+float decode_parallax(const Frame& f, float depth) noexcept {
+  return clean_parallax(f, raw_parallax<Fma>(f, depth));
+}
+
+// g = s ((t' - x) - P(x)): > 0 while the ray is in front of the surface (BEHAVIOUR.md).
+// Linear intersection of g between a sample in front (gap_front > 0) and one on or behind.
+template <class Fma>
+float intersect(float x_front, float gap_front, float x_behind, float gap_behind) noexcept {
+  const float t = gap_front / (gap_front - gap_behind);
+  return Fma::madd(t, x_behind - x_front, x_front);
 }
 
 // Interpolated parallax at a continuous source position inside the padded row.
-inline float parallax_at(const float* parallax, float x) noexcept {
+template <class Fma>
+float parallax_at(const float* parallax, float x) noexcept {
   const float column = std::floor(x);
   const int j = static_cast<int>(column);
-  const float frac = x - column;
-  return std::fma(frac, parallax[j + 1] - parallax[j], parallax[j]);
-}
-
-// g(x) = s ((t' - x) - P(x)): > 0 while the ray is in front of the surface (BEHAVIOUR.md).
-inline float ray_gap(const Frame& f, float target, float x, float surface_parallax) noexcept {
-  return f.s * ((target - x) - surface_parallax);
-}
-
-// Linear intersection of g between a sample in front (gap_front > 0) and one on or behind.
-inline float intersect(float x_front, float gap_front, float x_behind, float gap_behind) noexcept {
-  const float t = gap_front / (gap_front - gap_behind);
-  return std::fma(t, x_behind - x_front, x_front);
+  return Fma::madd(x - column, parallax[j + 1] - parallax[j], parallax[j]);
 }
 
 // The marching methods work in *offsets* o = x - t' from the target column: a fixed-step
@@ -101,11 +111,11 @@ inline float intersect(float x_front, float gap_front, float x_behind, float gap
 // it with contiguous loads and gets the same bits as this scalar reference. t' - x = -o exactly.
 
 // Parallax at offset o from target column t' (o's integer part and fraction are lane-invariant).
-inline float parallax_at_offset(const float* parallax, int target, float offset) noexcept {
+template <class Fma>
+float parallax_at_offset(const float* parallax, int target, float offset) noexcept {
   const float whole = std::floor(offset);
-  const float frac = offset - whole;
   const float* p = parallax + target + static_cast<int>(whole);
-  return std::fma(frac, p[1] - p[0], p[0]);
+  return Fma::madd(offset - whole, p[1] - p[0], p[0]);
 }
 inline float gap_at_offset(const Frame& f, float offset, float surface_parallax) noexcept {
   return f.s * (-offset - surface_parallax);
@@ -117,41 +127,71 @@ inline int point_offset(float ray_parallax) noexcept {
   return static_cast<int>(std::floor(0.5f - ray_parallax));
 }
 
+// The integer offsets strictly between o_start and o_end, walked in direction s: [first, end).
+struct ColumnWalk {
+  int first;
+  int end;
+  int step;
+};
+inline ColumnWalk column_walk(const Frame& f, float o_start, float o_end) noexcept {
+  if (f.s > 0.0f) return ColumnWalk{static_cast<int>(std::floor(o_start)) + 1, static_cast<int>(std::ceil(o_end)), 1};
+  return ColumnWalk{static_cast<int>(std::ceil(o_start)) - 1, static_cast<int>(std::floor(o_end)), -1};
+}
+inline bool walking(const ColumnWalk& walk, int o) noexcept { return walk.step > 0 ? o < walk.end : o > walk.end; }
+
 // The column march shared by `scanline` and `secant`: from offset o_start (gap_start > 0), visit
 // every integer offset strictly between o_start and o_end in direction s, then o_end; return the
 // offset of the first crossing (linear on its segment), or o_end if none is found by rounding.
-inline float march_columns(const Frame& f, const float* parallax, int target, float o_start, float gap_start,
-                           float o_end) noexcept {
-  const bool upwards = f.s > 0.0f;
-  const int first = upwards ? static_cast<int>(std::floor(o_start)) + 1 : static_cast<int>(std::ceil(o_start)) - 1;
-  const int end = upwards ? static_cast<int>(std::ceil(o_end)) : static_cast<int>(std::floor(o_end));
-  const int step = upwards ? 1 : -1;
+template <class Fma>
+float march_columns(const Frame& f, const float* parallax, int target, float o_start, float gap_start,
+                    float o_end) noexcept {
+  const ColumnWalk walk = column_walk(f, o_start, o_end);
   float o_prev = o_start;
   float gap_prev = gap_start;
-  for (int o = first; upwards ? o < end : o > end; o += step) {
+  for (int o = walk.first; walking(walk, o); o += walk.step) {
     const float offset = static_cast<float>(o);
     const float gap = gap_at_offset(f, offset, parallax[target + o]);
-    if (gap <= 0.0f) return intersect(o_prev, gap_prev, offset, gap);
+    if (gap <= 0.0f) return intersect<Fma>(o_prev, gap_prev, offset, gap);
     o_prev = offset;
     gap_prev = gap;
   }
-  const float gap = gap_at_offset(f, o_end, parallax_at_offset(parallax, target, o_end));
-  return gap <= 0.0f ? intersect(o_prev, gap_prev, o_end, gap) : o_end;
+  const float gap = gap_at_offset(f, o_end, parallax_at_offset<Fma>(parallax, target, o_end));
+  return gap <= 0.0f ? intersect<Fma>(o_prev, gap_prev, o_end, gap) : o_end;
 }
 
-// Each method's search over one row: writes x (source columns) and the clipped flag per target
-// pixel. The resolve stage turns them into outputs.
-void search_row_scanline(const Frame& f, RowScratch& scratch);
-void search_row_march(const Frame& f, RowScratch& scratch);
-void search_row_single(const Frame& f, RowScratch& scratch);
-void search_row_secant(const Frame& f, RowScratch& scratch);
-void search_row_exact(const Frame& f, RowScratch& scratch);
+// Each method's scalar reference over target pixels [t_begin, t_end) of the current row: writes
+// x (source columns) and the clipped flag per target pixel. The resolve stage turns them into
+// outputs. (exact sweeps the whole row: it ignores the range.)
+template <class Fma> void search_row_scanline(const Frame& f, RowScratch& scratch, int t_begin, int t_end);
+template <class Fma> void search_row_march(const Frame& f, RowScratch& scratch, int t_begin, int t_end);
+template <class Fma> void search_row_single(const Frame& f, RowScratch& scratch, int t_begin, int t_end);
+template <class Fma> void search_row_secant(const Frame& f, RowScratch& scratch, int t_begin, int t_end);
+template <class Fma> void search_row_exact(const Frame& f, RowScratch& scratch, int t_begin, int t_end);
+
+// The shared stages' scalar references: decode columns [begin, end) of a row (no padding), and
+// resolve target pixels [t_begin, t_end) of row y.
+template <class Fma> void decode_parallax_columns(const Frame& f, const float* depth, float* parallax, int begin, int end);
+template <class Fma> void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begin, int t_end);
+
+// One instruction set's kernels: every stage of every method.
+using DecodeRow = void (*)(const Frame& f, const float* depth, float* parallax);
+using SearchRow = void (*)(const Frame& f, RowScratch& scratch);
+using ResolveRow = void (*)(const Frame& f, int y, const RowScratch& scratch);
+struct KernelTable {
+  const char* name;
+  DecodeRow decode;
+  SearchRow search[kMethodCount];
+  ResolveRow resolve;
+};
+
+// The scalar references as a table, with either FMA policy.
+const KernelTable& scalar_kernels(bool fused);
 
 // Builds the plan from validated inputs (including the default p_near pass over the depth).
 Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
-                 const Options& options, const TargetView& target);
-// Runs rows [row_begin, row_end) of the frame.
-void run_rows(const Frame& f, int row_begin, int row_end);
+                 const Options& options, const TargetView& target, const KernelTable& kernels);
+// Runs rows [row_begin, row_end) of the frame with the given kernels.
+void run_rows(const Frame& f, const KernelTable& kernels, int row_begin, int row_end);
 
 }  // namespace detail
 }  // namespace reproject

@@ -5,14 +5,15 @@
 namespace reproject {
 namespace detail {
 
-void search_row_march(const Frame& f, RowScratch& scratch) {
+template <class Fma>
+void search_row_march(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
   const float* parallax = scratch.parallax;
-  for (int t = 0; t < f.target_width; ++t) {
+  for (int t = t_begin; t < t_end; ++t) {
     const int target = t + f.guard;
     float x = static_cast<float>(target) - f.p_far;  // no hit: the far end
     bool clipped = false;
     for (int k = 0; k <= f.march_steps; ++k) {
-      const float ray_parallax = std::fma(static_cast<float>(k), f.march_step, f.p_near);
+      const float ray_parallax = Fma::madd(static_cast<float>(k), f.march_step, f.p_near);
       const float surface = parallax[target + point_offset(ray_parallax)];
       if (f.s * surface >= f.s * ray_parallax) {  // on or behind
         x = static_cast<float>(target) - surface;
@@ -24,6 +25,9 @@ void search_row_march(const Frame& f, RowScratch& scratch) {
     scratch.clipped[t] = clipped;
   }
 }
+
+template void search_row_march<Fused>(const Frame&, RowScratch&, int, int);
+template void search_row_march<Unfused>(const Frame&, RowScratch&, int, int);
 
 }  // namespace detail
 }  // namespace reproject

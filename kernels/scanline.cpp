@@ -7,19 +7,23 @@
 namespace reproject {
 namespace detail {
 
-void search_row_scanline(const Frame& f, RowScratch& scratch) {
+template <class Fma>
+void search_row_scanline(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
   const float* parallax = scratch.parallax;
   const float o_near = -f.p_near;
   const float o_far = -f.p_far;
-  for (int t = 0; t < f.target_width; ++t) {
+  for (int t = t_begin; t < t_end; ++t) {
     const int target = t + f.guard;
-    const float gap_near = gap_at_offset(f, o_near, parallax_at_offset(parallax, target, o_near));
+    const float gap_near = gap_at_offset(f, o_near, parallax_at_offset<Fma>(parallax, target, o_near));
     scratch.clipped[t] = gap_near < 0.0f;
     // Behind at the near end: clipped; exactly on: a hit there.
-    const float offset = gap_near <= 0.0f ? o_near : march_columns(f, parallax, target, o_near, gap_near, o_far);
+    const float offset = gap_near <= 0.0f ? o_near : march_columns<Fma>(f, parallax, target, o_near, gap_near, o_far);
     scratch.source_x[t] = static_cast<float>(target) + offset;
   }
 }
+
+template void search_row_scanline<Fused>(const Frame&, RowScratch&, int, int);
+template void search_row_scanline<Unfused>(const Frame&, RowScratch&, int, int);
 
 }  // namespace detail
 }  // namespace reproject

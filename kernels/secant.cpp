@@ -11,16 +11,10 @@
 #include <cmath>
 #include <limits>
 
-#include "kernels/frame.hpp"
+#include "kernels/secant.hpp"
 
 namespace reproject {
 namespace detail {
-namespace {
-
-constexpr int kSecantTile = 16;
-constexpr int kSecantBlock = 8;
-constexpr int kSecantIterations = 8;
-constexpr float kSecantTolerance = 1e-3f;
 
 void build_block_table(const Frame& f, RowScratch& scratch) {
   const int blocks = (f.source_width + kSecantBlock - 1) / kSecantBlock;
@@ -42,6 +36,8 @@ void build_block_table(const Frame& f, RowScratch& scratch) {
     scratch.block_max[k] = hi;
   }
 }
+
+namespace {
 
 // Keys [lowest, highest] of the surface over source columns the tile's rays can touch.
 struct KeyBounds {
@@ -70,13 +66,29 @@ KeyBounds reachable_keys(const Frame& f, const RowScratch& scratch, int t_begin,
   return bounds;
 }
 
-// Secant refinement of a bracket in offsets: g(o_front) > 0, g(o_behind) <= 0.
-float refine(const Frame& f, const float* parallax, int target, float o_front, float gap_front, float o_behind,
+}  // namespace
+
+TileRay tile_ray(const Frame& f, const RowScratch& scratch, int tile_begin) {
+  const int tile_end = std::min(tile_begin + kSecantTile, f.target_width);
+  const KeyBounds reach = reachable_keys(f, scratch, tile_begin, tile_end);
+  // The ray's keys run from key_near down to key_far; a crossing has a reachable key.
+  const float key_start = std::min(f.key_near, reach.highest);
+  const float key_end = std::min(std::max(f.key_far, reach.lowest), key_start);
+  TileRay ray;
+  ray.p_start = f.s * key_start;
+  ray.p_end = f.s * key_end;
+  ray.starts_at_near_end = key_start == f.key_near;
+  ray.column_steps = key_start - key_end <= static_cast<float>(f.secant_max_steps);
+  return ray;
+}
+
+template <class Fma>
+float secant_refine(const Frame& f, const float* parallax, int target, float o_front, float gap_front, float o_behind,
              float gap_behind) {
-  float offset = intersect(o_front, gap_front, o_behind, gap_behind);
+  float offset = intersect<Fma>(o_front, gap_front, o_behind, gap_behind);
   int last_side = 0;
   for (int iteration = 0; iteration < kSecantIterations; ++iteration) {
-    const float gap = gap_at_offset(f, offset, parallax_at_offset(parallax, target, offset));
+    const float gap = gap_at_offset(f, offset, parallax_at_offset<Fma>(parallax, target, offset));
     if (gap > 0.0f) {
       o_front = offset;
       gap_front = gap;
@@ -88,7 +100,7 @@ float refine(const Frame& f, const float* parallax, int target, float o_front, f
       if (last_side < 0) gap_front *= 0.5f;
       last_side = -1;
     }
-    const float next = intersect(o_front, gap_front, o_behind, gap_behind);
+    const float next = intersect<Fma>(o_front, gap_front, o_behind, gap_behind);
     const bool converged = std::fabs(next - offset) <= kSecantTolerance;
     offset = next;
     if (converged) break;
@@ -96,15 +108,21 @@ float refine(const Frame& f, const float* parallax, int target, float o_front, f
   return offset;
 }
 
+template float secant_refine<Fused>(const Frame&, const float*, int, float, float, float, float);
+template float secant_refine<Unfused>(const Frame&, const float*, int, float, float, float, float);
+
+namespace {
+
 // The fixed-step march of a span wider than secant_max_steps, then refinement.
+template <class Fma>
 float march_steps(const Frame& f, const float* parallax, int target, float p_start, float gap_start, float p_end) {
   const float step = (p_end - p_start) / static_cast<float>(f.secant_max_steps);
   float o_prev = -p_start;
   float gap_prev = gap_start;
   for (int k = 1; k <= f.secant_max_steps; ++k) {
-    const float offset = -(k == f.secant_max_steps ? p_end : std::fma(static_cast<float>(k), step, p_start));
-    const float gap = gap_at_offset(f, offset, parallax_at_offset(parallax, target, offset));
-    if (gap <= 0.0f) return refine(f, parallax, target, o_prev, gap_prev, offset, gap);
+    const float offset = -(k == f.secant_max_steps ? p_end : Fma::madd(static_cast<float>(k), step, p_start));
+    const float gap = gap_at_offset(f, offset, parallax_at_offset<Fma>(parallax, target, offset));
+    if (gap <= 0.0f) return secant_refine<Fma>(f, parallax, target, o_prev, gap_prev, offset, gap);
     o_prev = offset;
     gap_prev = gap;
   }
@@ -113,35 +131,28 @@ float march_steps(const Frame& f, const float* parallax, int target, float p_sta
 
 }  // namespace
 
-void search_row_secant(const Frame& f, RowScratch& scratch) {
+template <class Fma>
+void search_row_secant(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
   const float* parallax = scratch.parallax;
-  build_block_table(f, scratch);
-
-  for (int t_begin = 0; t_begin < f.target_width; t_begin += kSecantTile) {
-    const int t_end = std::min(t_begin + kSecantTile, f.target_width);
-    const KeyBounds reach = reachable_keys(f, scratch, t_begin, t_end);
-    // The ray's keys run from key_near down to key_far; a crossing has a reachable key.
-    const float key_start = std::min(f.key_near, reach.highest);
-    const float key_end = std::min(std::max(f.key_far, reach.lowest), key_start);
-    const float p_start = f.s * key_start;
-    const float p_end = f.s * key_end;
-    const bool starts_at_near_end = key_start == f.key_near;
-    const bool column_steps = key_start - key_end <= static_cast<float>(f.secant_max_steps);
-
-    for (int t = t_begin; t < t_end; ++t) {
-      const int target = t + f.guard;
-      const float o_start = -p_start;
-      const float gap_start = gap_at_offset(f, o_start, parallax_at_offset(parallax, target, o_start));
-      scratch.clipped[t] = gap_start < 0.0f && starts_at_near_end;
-      float offset = o_start;  // behind or on at the start
-      if (gap_start > 0.0f) {
-        offset = column_steps ? march_columns(f, parallax, target, o_start, gap_start, -p_end)
-                              : march_steps(f, parallax, target, p_start, gap_start, p_end);
-      }
-      scratch.source_x[t] = static_cast<float>(target) + offset;
+  if (t_begin == 0) build_block_table(f, scratch);
+  TileRay ray{};
+  for (int t = t_begin; t < t_end; ++t) {
+    if (t == t_begin || t % kSecantTile == 0) ray = tile_ray(f, scratch, t - t % kSecantTile);
+    const int target = t + f.guard;
+    const float o_start = -ray.p_start;
+    const float gap_start = gap_at_offset(f, o_start, parallax_at_offset<Fma>(parallax, target, o_start));
+    scratch.clipped[t] = gap_start < 0.0f && ray.starts_at_near_end;
+    float offset = o_start;  // behind or on at the start
+    if (gap_start > 0.0f) {
+      offset = ray.column_steps ? march_columns<Fma>(f, parallax, target, o_start, gap_start, -ray.p_end)
+                                : march_steps<Fma>(f, parallax, target, ray.p_start, gap_start, ray.p_end);
     }
+    scratch.source_x[t] = static_cast<float>(target) + offset;
   }
 }
+
+template void search_row_secant<Fused>(const Frame&, RowScratch&, int, int);
+template void search_row_secant<Unfused>(const Frame&, RowScratch&, int, int);
 
 }  // namespace detail
 }  // namespace reproject

@@ -5,16 +5,20 @@
 namespace reproject {
 namespace detail {
 
-void search_row_single(const Frame& f, RowScratch& scratch) {
+template <class Fma>
+void search_row_single(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
   const float* parallax = scratch.parallax;
   const int probe_offset = point_offset(f.probe);
-  for (int t = 0; t < f.target_width; ++t) {
+  for (int t = t_begin; t < t_end; ++t) {
     const int target = t + f.guard;
     const float surface = parallax[target + probe_offset];
     scratch.source_x[t] = static_cast<float>(target) - surface;
     scratch.clipped[t] = f.s * surface > f.key_near;  // the sample is nearer than allowed
   }
 }
+
+template void search_row_single<Fused>(const Frame&, RowScratch&, int, int);
+template void search_row_single<Unfused>(const Frame&, RowScratch&, int, int);
 
 }  // namespace detail
 }  // namespace reproject

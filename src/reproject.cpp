@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
 
 namespace reproject {
@@ -87,6 +88,8 @@ Status check_options(const Options& options) {
                   *options.max_negative_parallax);
   if (options.probe_parallax && !std::isfinite(*options.probe_parallax))
     return Status(StatusCode::invalid_option, "probe_parallax: %g is not finite", *options.probe_parallax);
+  if (options.arch && !arch_supported(*options.arch))
+    return Status(StatusCode::invalid_option, "arch: %s is not supported by this build and CPU", to_string(*options.arch));
   return Status();
 }
 
@@ -172,6 +175,11 @@ Status check_aliasing(const SourceView& source, const TargetView* const* targets
   return Status();
 }
 
+// Options::arch was checked by check_options.
+const detail::KernelTable& kernels_for(const Options& options) {
+  return *detail::compiled_kernels(options.arch ? *options.arch : selected_arch());
+}
+
 bool empty_frame(const SourceView& source) { return source.depth.width == 0 || source.depth.height == 0; }
 
 }  // namespace
@@ -192,17 +200,27 @@ bool parse_method(const char* name, Method* out) noexcept {
   return false;
 }
 
-Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
-                 const Options& options, const TargetView& target) noexcept {
+namespace detail {
+
+Status reproject_with(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
+                      const ParallaxModel& model, const Options& options, const TargetView& target) {
   Status status = check_inputs(source, decoder, model, options);
   if (!status.ok() || empty_frame(source)) return status;
   if (!(status = check_target(source, options, target, "target")).ok()) return status;
   const TargetView* targets[1] = {&target};
   if (!(status = check_aliasing(source, targets, 1)).ok()) return status;
-
-  const detail::Frame frame = detail::make_frame(source, decoder, model, options, target);
-  detail::run_rows(frame, 0, frame.height);
+  const Frame frame = make_frame(source, decoder, model, options, target, kernels);
+  run_rows(frame, kernels, 0, frame.height);
   return Status();
+}
+
+}  // namespace detail
+
+Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target) noexcept {
+  Status status = check_options(options);
+  if (!status.ok()) return status;
+  return detail::reproject_with(kernels_for(options), source, decoder, model, options, target);
 }
 
 Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder, const ParallaxModel& centre_to_right,
@@ -215,10 +233,11 @@ Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder, con
   const TargetView* targets[2] = {&left, &right};
   if (!(status = check_aliasing(centre, targets, 2)).ok()) return status;
 
-  const detail::Frame left_frame = detail::make_frame(centre, decoder, centre_to_left, options, left);
-  detail::run_rows(left_frame, 0, left_frame.height);
-  const detail::Frame right_frame = detail::make_frame(centre, decoder, centre_to_right, options, right);
-  detail::run_rows(right_frame, 0, right_frame.height);
+  const detail::KernelTable& kernels = kernels_for(options);
+  const detail::Frame left_frame = detail::make_frame(centre, decoder, centre_to_left, options, left, kernels);
+  detail::run_rows(left_frame, kernels, 0, left_frame.height);
+  const detail::Frame right_frame = detail::make_frame(centre, decoder, centre_to_right, options, right, kernels);
+  detail::run_rows(right_frame, kernels, 0, right_frame.height);
   return Status();
 }
 

@@ -30,7 +30,7 @@ using reproject::Method;
 using reproject::Options;
 using reproject::ParallaxModel;
 using rptest::Encoding;
-using rptest::Run;
+using rptest::RunResult;
 using rptest::SourceFrame;
 using rptest::Tally;
 
@@ -62,7 +62,7 @@ const char* name(EyeDirection d) { return reproject::to_string(d); }
 // EdgeMode::clamp, where the interpolation clamps to the edge pixel): source_x within tol of x,
 // channel 0 (the column) within tol of x clamped, and the other channels and the depth equal to
 // the interpolation at the reported source_x (this part checks the resolve stage alone).
-void check_interpolated(Tally& tally, const char* ctx, const Run& r, const SourceFrame& src,
+void check_interpolated(Tally& tally, const char* ctx, const RunResult& r, const SourceFrame& src,
                         const Encoding& enc, int t, int y, double x, double tol) {
   const int w = src.width;
   const double sx = r.out.x_at(t, y);
@@ -83,7 +83,7 @@ void check_interpolated(Tally& tally, const char* ctx, const Run& r, const Sourc
 }
 
 // A hole pixel filled from source column `column` (or untouched with HoleFill::none).
-void check_fill(Tally& tally, const char* ctx, const Run& r, const SourceFrame& src, int t, int y,
+void check_fill(Tally& tally, const char* ctx, const RunResult& r, const SourceFrame& src, int t, int y,
                 int column, HoleFill fill) {
   for (int c = 0; c < src.channels; ++c) {
     const float got = r.out.color_at(c, t, y);
@@ -96,7 +96,7 @@ void check_fill(Tally& tally, const char* ctx, const Run& r, const SourceFrame& 
     tally.fail("%s t=%d y=%d: hole depth %.7g, expected %.7g", ctx, t, y, d, want);
 }
 
-void check_status(Tally& tally, const char* ctx, const Run& r, int t, int y, int want) {
+void check_status(Tally& tally, const char* ctx, const RunResult& r, int t, int y, int want) {
   const int got = r.out.status_at(t, y);
   if (got != want) tally.fail("%s t=%d y=%d: status %d, expected %d (source_x %.5f)", ctx, t, y, got, want, r.out.x_at(t, y));
 }
@@ -130,7 +130,7 @@ TEST(AnalyticPlane, FrontoParallelEveryMethodAtSeveralDepths) {
             Options options;
             options.method = method;
             options.max_negative_parallax = limit;
-            const Run r = rptest::run(src, enc.decoder(), model, options);
+            const RunResult r = rptest::run(src, enc.decoder(), model, options);
             const std::string ctx = context(method, dir, enc, "z=" + std::to_string(z) + (limit ? "/limit30" : ""));
             ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
             Tally tally;
@@ -186,7 +186,7 @@ TEST(AnalyticPlane, March16StepCountsAndSingleProbeAtConvergence) {
         options.march_steps = v.steps;
         options.probe_parallax = v.probe;
         options.max_negative_parallax = v.limit;
-        const Run r = rptest::run(src, enc.decoder(), model, options);
+        const RunResult r = rptest::run(src, enc.decoder(), model, options);
         const std::string ctx = context(v.method, dir, enc, "z=" + std::to_string(z) + "/steps=" +
                                                                 std::to_string(v.steps));
         ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
@@ -245,7 +245,7 @@ TEST(AnalyticSlanted, ScanlineSecantExactWithinAHundredthOfThePlaneCrossing) {
         for (Method method : kExactLike) {
           Options options;
           options.method = method;
-          const Run r = rptest::run(src, enc.decoder(), model, options);
+          const RunResult r = rptest::run(src, enc.decoder(), model, options);
           const std::string ctx = context(method, dir, enc, "k=" + std::to_string(k));
           ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
           Tally tally;
@@ -286,7 +286,7 @@ TEST(AnalyticSlanted, HoleThresholdDecidesWhatIsAWall) {
           Options options;
           options.method = method;
           options.hole_threshold = tau;
-          const Run r = rptest::run(src, enc.decoder(), model, options);
+          const RunResult r = rptest::run(src, enc.decoder(), model, options);
           const std::string ctx = context(method, dir, enc, "tau=" + std::to_string(tau));
           ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
           const bool walls = tau < k;
@@ -299,7 +299,9 @@ TEST(AnalyticSlanted, HoleThresholdDecidesWhatIsAWall) {
             if (status != (walls ? kHole : kHit))
               tally.fail("%s t=%d: status %d, expected %d", ctx.c_str(), t, status, walls ? kHole : kHit);
           }
-          if (walls) EXPECT_GT(holes, width / 2) << ctx;
+          if (walls) {
+            EXPECT_GT(holes, width / 2) << ctx;
+          }
           bool exact_like = false;
           for (Method m : kExactLike) exact_like |= m == method;
           if (walls && exact_like) {
@@ -418,7 +420,7 @@ TEST(AnalyticStep, HolesExactlyAtTheDisocclusionWithEachFill) {
             Options options;
             options.method = method;
             options.hole_fill = fill;
-            const Run r = rptest::run(src, enc.decoder(), model, options);
+            const RunResult r = rptest::run(src, enc.decoder(), model, options);
             const std::string ctx = context(method, dir, enc,
                                             "box" + std::to_string(config.j0) + "/fill" +
                                                 std::to_string(static_cast<int>(fill)));
@@ -465,7 +467,7 @@ TEST(AnalyticStep, HoleThresholdAroundTheTearSize) {
         Options options;
         options.method = method;
         options.hole_threshold = static_cast<float>(tear + delta);
-        const Run r = rptest::run(src, enc.decoder(), model, options);
+        const RunResult r = rptest::run(src, enc.decoder(), model, options);
         const std::string ctx = context(method, dir, enc, "tau=D" + std::to_string(delta));
         ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
         Tally tally;
@@ -586,7 +588,7 @@ TEST(AnalyticRules, March16AndSingleFollowTheirRulesOnABox) {
           options.march_steps = v.steps;
           options.probe_parallax = v.probe;
           options.max_negative_parallax = limit;
-          const Run r = rptest::run(src, enc.decoder(), model, options);
+          const RunResult r = rptest::run(src, enc.decoder(), model, options);
           const std::string ctx = context(v.method, dir, enc,
                                           "box" + std::to_string(config.j0) + "/N=" + std::to_string(v.steps) +
                                               (v.probe ? "/probe=" + std::to_string(*v.probe) : "") +
@@ -639,7 +641,7 @@ TEST(AnalyticEdge, OutsideExactlyWhereTheSourceHasNoData) {
           Options options;
           options.method = method;
           options.edge = edge;
-          const Run r = rptest::run(src, enc.decoder(), model, options);
+          const RunResult r = rptest::run(src, enc.decoder(), model, options);
           const std::string ctx = context(method, dir, enc, edge == EdgeMode::clamp ? "clamp" : "none");
           ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
           Tally tally;
@@ -692,7 +694,7 @@ TEST(AnalyticEdge, GuardBandRemovesOutsidePixels) {
         Options options;
         options.method = method;
         options.guard = guard;
-        const Run r = rptest::run(src, enc.decoder(), model, options);
+        const RunResult r = rptest::run(src, enc.decoder(), model, options);
         const std::string ctx = context(method, dir, enc, "guard=" + std::to_string(guard));
         ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
         ASSERT_EQ(r.out.width, target_width);
@@ -709,7 +711,9 @@ TEST(AnalyticEdge, GuardBandRemovesOutsidePixels) {
           }
           const int expected = std::max(0, static_cast<int>(std::ceil(std::fabs(p) - guard)));
           EXPECT_EQ(outside, expected) << ctx << " row " << y << " p=" << p;
-          if (guard >= std::fabs(p)) EXPECT_EQ(outside, 0) << ctx;
+          if (guard >= std::fabs(p)) {
+            EXPECT_EQ(outside, 0) << ctx;
+          }
         }
         EXPECT_EQ(tally.count(), 0) << ctx << tally.report();
       }
@@ -738,7 +742,7 @@ TEST(AnalyticClip, ClippedExactlyWhereTheNearEndIsBehindTheSurface) {
           Options options;
           options.method = method;
           options.max_negative_parallax = m;
-          const Run r = rptest::run(src, enc.decoder(), model, options);
+          const RunResult r = rptest::run(src, enc.decoder(), model, options);
           const std::string ctx = context(method, dir, enc, "m=" + std::to_string(m));
           ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
           Tally tally;
@@ -767,8 +771,12 @@ TEST(AnalyticClip, ClippedExactlyWhereTheNearEndIsBehindTheSurface) {
               check_interpolated(tally, ctx.c_str(), r, src, enc, t, 0, x, 1e-3);
             }
           }
-          if (m < 7.0f) EXPECT_GT(clipped, 0) << ctx;
-          if (m > 7.68f) EXPECT_EQ(clipped, 0) << ctx;
+          if (m < 7.0f) {
+            EXPECT_GT(clipped, 0) << ctx;
+          }
+          if (m > 7.68f) {
+            EXPECT_EQ(clipped, 0) << ctx;
+          }
           EXPECT_EQ(tally.count(), 0) << ctx << tally.report();
         }
       }
@@ -786,7 +794,7 @@ TEST(AnalyticClip, DefaultLimitClipsNothing) {
         for (Method method : kAllMethods) {
           Options options;
           options.method = method;
-          const Run r = rptest::run(src, enc.decoder(), model, options);
+          const RunResult r = rptest::run(src, enc.decoder(), model, options);
           ASSERT_TRUE(r.status.ok()) << r.status.message();
           int clipped = 0;
           for (int t = 0; t < config.width; ++t) clipped += r.out.status_at(t, 0) == kClipped;
@@ -813,7 +821,7 @@ TEST(AnalyticClip, RayStartingOnTheSurfaceHits) {
       Options options;
       options.method = method;
       options.max_negative_parallax = 0.0f;
-      const Run r = rptest::run(src, enc.decoder(), model, options);
+      const RunResult r = rptest::run(src, enc.decoder(), model, options);
       const std::string ctx = context(method, dir, enc);
       ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
       Tally tally;
@@ -849,7 +857,7 @@ TEST(AnalyticOutputs, AllPlanesWrittenAndNothingOutsideTheWidth) {
         options.method = method;
         options.guard = guard;
         const std::string ctx = context(method, dir, enc, layout == reproject::ColorLayout::planar ? "planar" : "rgba");
-        const Run full = rptest::run(src, enc.decoder(), model, options, 5);
+        const RunResult full = rptest::run(src, enc.decoder(), model, options, 5);
         ASSERT_TRUE(full.status.ok()) << ctx << ": " << full.status.message();
         EXPECT_TRUE(full.out.padding_untouched()) << ctx;
         Tally tally;
@@ -865,15 +873,21 @@ TEST(AnalyticOutputs, AllPlanesWrittenAndNothingOutsideTheWidth) {
         // Each optional plane alone, and none: the colour and the requested planes are identical.
         for (int mask = 0; mask < 8; ++mask) {
           const bool want_depth = mask & 1, want_status = mask & 2, want_x = mask & 4;
-          const Run part = rptest::run(src, enc.decoder(), model, options, 5, want_depth, want_status, want_x);
+          const RunResult part = rptest::run(src, enc.decoder(), model, options, 5, want_depth, want_status, want_x);
           ASSERT_TRUE(part.status.ok()) << ctx << " mask " << mask << ": " << part.status.message();
           EXPECT_TRUE(part.out.padding_untouched()) << ctx << " mask " << mask;
           EXPECT_EQ(part.out.color[0], full.out.color[0]) << ctx << " mask " << mask;
           for (int c = 1; c < 4 && layout == reproject::ColorLayout::planar; ++c)
             EXPECT_EQ(part.out.color[c], full.out.color[c]) << ctx << " mask " << mask;
-          if (want_depth) EXPECT_EQ(part.out.depth, full.out.depth) << ctx << " mask " << mask;
-          if (want_status) EXPECT_EQ(part.out.status, full.out.status) << ctx << " mask " << mask;
-          if (want_x) EXPECT_EQ(part.out.source_x, full.out.source_x) << ctx << " mask " << mask;
+          if (want_depth) {
+            EXPECT_EQ(part.out.depth, full.out.depth) << ctx << " mask " << mask;
+          }
+          if (want_status) {
+            EXPECT_EQ(part.out.status, full.out.status) << ctx << " mask " << mask;
+          }
+          if (want_x) {
+            EXPECT_EQ(part.out.source_x, full.out.source_x) << ctx << " mask " << mask;
+          }
         }
       }
     }
@@ -897,7 +911,7 @@ struct Agreement {
   double percent() const { return exact_hits ? 100.0 * within / exact_hits : 100.0; }
 };
 
-Agreement compare_secant(const Run& exact, const Run& secant) {
+Agreement compare_secant(const RunResult& exact, const RunResult& secant) {
   Agreement a;
   for (int y = 0; y < exact.out.height; ++y) {
     for (int t = 0; t < exact.out.width; ++t) {
@@ -947,10 +961,10 @@ TEST(SecantSmooth, WithinFiveHundredthsOfExactOnRandomSmoothRows) {
       const ParallaxModel model = ParallaxModel::from_stereo(c.separation, 1.0, width, dir);
       Options options;
       options.method = Method::exact;
-      const Run exact = rptest::run(src, enc.decoder(), model, options);
+      const RunResult exact = rptest::run(src, enc.decoder(), model, options);
       options.method = Method::secant;
       options.secant_max_steps = c.max_steps;
-      const Run secant = rptest::run(src, enc.decoder(), model, options);
+      const RunResult secant = rptest::run(src, enc.decoder(), model, options);
       ASSERT_TRUE(exact.status.ok()) << exact.status.message();
       ASSERT_TRUE(secant.status.ok()) << secant.status.message();
       const Agreement a = compare_secant(exact, secant);
@@ -985,9 +999,9 @@ TEST(SecantThinOccluder, TwoPixelObjectNeverMissed) {
         });
         Options options;
         options.method = Method::exact;
-        const Run exact = rptest::run(src, enc.decoder(), model, options);
+        const RunResult exact = rptest::run(src, enc.decoder(), model, options);
         options.method = Method::secant;
-        const Run secant = rptest::run(src, enc.decoder(), model, options);
+        const RunResult secant = rptest::run(src, enc.decoder(), model, options);
         ASSERT_TRUE(exact.status.ok()) << exact.status.message();
         ASSERT_TRUE(secant.status.ok()) << secant.status.message();
         Tally tally;

@@ -25,6 +25,20 @@ constexpr int kMethodCount = 5;
 const char* to_string(Method method) noexcept;
 bool parse_method(const char* name, Method* out) noexcept;
 
+// Instruction sets the kernels are compiled for. Every SIMD kernel is bit-identical to its scalar
+// reference with the same FMA policy: scalar, avx2 and avx512 fuse multiply-adds; sse (no FMA
+// instructions) does not, and matches the scalar reference built without fusing.
+enum class Arch : std::uint8_t { scalar, sse, avx2, avx512 };
+constexpr int kArchCount = 4;
+const char* to_string(Arch arch) noexcept;
+bool parse_arch(const char* name, Arch* out) noexcept;  // "scalar", "sse", "avx2", "avx512"
+// Compiled in, and supported by this CPU and operating system (CPUID and XGETBV).
+bool arch_supported(Arch arch) noexcept;
+// The instruction set calls use when Options::arch is unset: the best supported, chosen once, or
+// the one named by the environment variable REPROJECT_FORCE_ARCH (scalar|sse|avx2|avx512) when
+// it is supported.
+Arch selected_arch() noexcept;
+
 // Per target pixel, in the optional status plane.
 enum class PixelStatus : std::uint8_t {
   hit = 0,      // the ray meets the surface on a segment that is not a wall
@@ -57,6 +71,7 @@ struct Options {
   std::optional<float> probe_parallax;  // `single`: parallax of its one sample; unset: a (infinity)
   int march_steps = 16;                 // `march16`: number of equal steps (1..1024)
   int secant_max_steps = 64;            // `secant`: most march steps per 16-pixel tile (1..4096)
+  std::optional<Arch> arch;             // unset: selected_arch(); an unsupported one is an error
 };
 
 // The view being reprojected. Depth and colour have the same size: the target's width plus

@@ -162,10 +162,10 @@ TargetFrame make_target(int width, int height, int channels, ColorLayout layout,
   return t;
 }
 
-Run run(const SourceFrame& source, const reproject::DepthDecoder& decoder,
+RunResult run(const SourceFrame& source, const reproject::DepthDecoder& decoder,
         const reproject::ParallaxModel& model, const reproject::Options& options, int pad,
         bool want_depth, bool want_status, bool want_source_x) {
-  Run r;
+  RunResult r;
   r.out = make_target(source.width - 2 * options.guard, source.height, source.channels, source.layout, pad);
   r.out.want_depth = want_depth;
   r.out.want_status = want_status;

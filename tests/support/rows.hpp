@@ -85,14 +85,14 @@ struct TargetFrame {
 TargetFrame make_target(int width, int height, int channels = 2,
                         reproject::ColorLayout layout = reproject::ColorLayout::planar, int pad = 3);
 
-struct Run {
+struct RunResult {
   reproject::Status status;
   TargetFrame out;
 };
 
 // Reprojects `source` into a fresh target of width source.width - 2 * options.guard with the same
 // channels and layout (outputs pre-filled with the sentinels).
-Run run(const SourceFrame& source, const reproject::DepthDecoder& decoder,
+RunResult run(const SourceFrame& source, const reproject::DepthDecoder& decoder,
         const reproject::ParallaxModel& model, const reproject::Options& options, int pad = 3,
         bool want_depth = true, bool want_status = true, bool want_source_x = true);
 

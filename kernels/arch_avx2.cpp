@@ -1,0 +1,15 @@
+// AVX2 with FMA3 (xsimd's fma3<avx2>: plain avx2 would turn xsimd::fma into multiply + add).
+// Built with -mavx2 -mfma only.
+#include "kernels/dispatch.hpp"
+#include "kernels/simd.hpp"
+
+namespace reproject {
+namespace detail {
+
+const KernelTable* avx2_kernels() {
+  static const KernelTable table = make_simd_table<xsimd::fma3<xsimd::avx2>, Fused>("avx2");
+  return &table;
+}
+
+}  // namespace detail
+}  // namespace reproject

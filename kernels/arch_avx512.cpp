@@ -1,0 +1,14 @@
+// AVX-512 (xsimd 8.1's avx512bw). Built with -mavx512f -mavx512cd -mavx512dq -mavx512bw -mfma only.
+#include "kernels/dispatch.hpp"
+#include "kernels/simd.hpp"
+
+namespace reproject {
+namespace detail {
+
+const KernelTable* avx512_kernels() {
+  static const KernelTable table = make_simd_table<xsimd::avx512bw, Fused>("avx512");
+  return &table;
+}
+
+}  // namespace detail
+}  // namespace reproject

@@ -1,0 +1,14 @@
+// The SSE4.1 baseline (no FMA instructions: the unfused policy). Built with -msse4.1 only.
+#include "kernels/dispatch.hpp"
+#include "kernels/simd.hpp"
+
+namespace reproject {
+namespace detail {
+
+const KernelTable* sse_kernels() {
+  static const KernelTable table = make_simd_table<xsimd::sse4_1, Unfused>("sse");
+  return &table;
+}
+
+}  // namespace detail
+}  // namespace reproject

@@ -1,0 +1,396 @@
+// The SIMD twins of the scalar references, written once with xsimd and instantiated per
+// instruction set by kernels/arch_<set>.cpp (each compiled with its own flags). Lanes are
+// consecutive target pixels. Everything here is in an anonymous namespace: each arch TU gets its
+// own copy, so the linker can never pick an AVX-512 body for an SSE caller (ODR).
+//
+// Each function mirrors its scalar reference operation for operation (same FMA policy, same
+// divisions, no approximate reciprocals), so the outputs are bit-identical; tails shorter than
+// a vector run the scalar reference itself.
+#pragma once
+
+#include <immintrin.h>
+
+#include <cstdint>
+#include <type_traits>
+#include <xsimd/xsimd.hpp>
+
+#include "kernels/frame.hpp"
+#include "kernels/secant.hpp"
+
+namespace reproject {
+namespace detail {
+namespace {
+
+template <class Arch>
+struct Lanes {
+  using F = xsimd::batch<float, Arch>;
+  using I = xsimd::batch<std::int32_t, Arch>;
+  using B = xsimd::batch_bool<float, Arch>;
+  static constexpr int size = static_cast<int>(F::size);
+};
+
+// The FMA policy of frame.hpp, on vectors.
+template <class Fma, class F>
+F vmadd(const F& a, const F& b, const F& c) {
+  if constexpr (std::is_same<Fma, Fused>::value) {
+    return xsimd::fma(a, b, c);
+  } else {
+    return a * b + c;
+  }
+}
+
+template <class Arch>
+xsimd::batch<float, Arch> lane_offsets() {
+  alignas(64) static const float offsets[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  return xsimd::batch<float, Arch>::load_aligned(offsets);
+}
+
+// base[index] per lane. xsimd 8.1's batch::gather is a scalar loop, so use the hardware gather
+// where there is one.
+template <class Arch>
+xsimd::batch<float, Arch> gather(const float* base, const xsimd::batch<std::int32_t, Arch>& index) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of<xsimd::avx512f, Arch>::value) {
+    return _mm512_i32gather_ps(index, base, 4);
+  }
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
+    return _mm256_i32gather_ps(base, index, 4);
+  }
+#endif
+  constexpr int L = Lanes<Arch>::size;
+  alignas(64) std::int32_t at[L];
+  alignas(64) float value[L];
+  index.store_aligned(at);
+  for (int i = 0; i < L; ++i) value[i] = base[at[i]];
+  return xsimd::batch<float, Arch>::load_aligned(value);
+}
+
+// Indices are carried as exact small floats (selects stay in one domain) and converted here.
+template <class Arch>
+xsimd::batch<float, Arch> gather_at(const float* base, const xsimd::batch<float, Arch>& index) {
+  return gather<Arch>(base, xsimd::to_int(index));
+}
+
+template <class Arch>
+void store_flags(const xsimd::batch_bool<float, Arch>& flags, std::uint8_t* out) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  alignas(64) float value[L];
+  xsimd::select(flags, F(1.0f), F(0.0f)).store_aligned(value);
+  for (int i = 0; i < L; ++i) out[i] = value[i] != 0.0f;
+}
+
+template <class Arch>
+xsimd::batch_bool<float, Arch> load_flags(const std::uint8_t* in) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  alignas(64) float value[L];
+  for (int i = 0; i < L; ++i) value[i] = in[i] ? 1.0f : 0.0f;
+  return F::load_aligned(value) != F(0.0f);
+}
+
+// Parallax at a lane-invariant offset from each lane's target column: two contiguous loads.
+template <class Arch, class Fma>
+xsimd::batch<float, Arch> parallax_at_offset_v(const float* parallax, int target0, float offset) {
+  using F = typename Lanes<Arch>::F;
+  const float whole = std::floor(offset);
+  const float* p = parallax + target0 + static_cast<int>(whole);
+  const F p0 = F::load_unaligned(p);
+  const F p1 = F::load_unaligned(p + 1);
+  return vmadd<Fma>(F(offset - whole), p1 - p0, p0);
+}
+
+template <class Arch, class Fma>
+xsimd::batch<float, Arch> intersect_v(const xsimd::batch<float, Arch>& x_front, const xsimd::batch<float, Arch>& gap_front,
+                                      const xsimd::batch<float, Arch>& x_behind, const xsimd::batch<float, Arch>& gap_behind) {
+  const auto t = gap_front / (gap_front - gap_behind);
+  return vmadd<Fma>(t, x_behind - x_front, x_front);
+}
+
+// ---- decode (scalar twin: decode_parallax_columns) ----
+
+template <class Arch, class Fma>
+void simd_decode(const Frame& f, const float* depth, float* parallax) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
+  const F key_far(f.key_far), p_far(f.p_far), limit(f.limit), near_bound(f.s * f.limit), one(1.0f);
+  int i = 0;
+  for (; i + L <= f.source_width; i += L) {
+    const F d = F::load_unaligned(depth + i);
+    F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+    const F key = s * p;
+    p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
+    p = xsimd::select(key > limit, near_bound, p);
+    p.store_unaligned(parallax + i);
+  }
+  decode_parallax_columns<Fma>(f, depth, parallax, i, f.source_width);
+}
+
+// ---- march16 (scalar twin: search_row_march) ----
+
+template <class Arch, class Fma>
+void simd_march(const Frame& f, RowScratch& scratch) {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  constexpr int L = Lanes<Arch>::size;
+  const float* parallax = scratch.parallax;
+  const F s(f.s), key_near(f.key_near), lanes = lane_offsets<Arch>();
+  int t = 0;
+  for (; t + L <= f.target_width; t += L) {
+    const int target0 = t + f.guard;
+    const F target = F(static_cast<float>(target0)) + lanes;
+    F x = target - F(f.p_far);
+    B done(false);
+    B clipped(false);
+    for (int k = 0; k <= f.march_steps; ++k) {
+      const float ray_parallax = Fma::madd(static_cast<float>(k), f.march_step, f.p_near);
+      // The k-th sample of every lane is at the same offset: one contiguous load.
+      const F surface = F::load_unaligned(parallax + target0 + point_offset(ray_parallax));
+      const B hit = (s * surface >= F(f.s * ray_parallax)) & !done;
+      x = xsimd::select(hit, target - surface, x);
+      if (k == 0) clipped = hit & (s * surface > key_near);
+      done = done | hit;
+      if (xsimd::all(done)) break;
+    }
+    x.store_unaligned(scratch.source_x.data() + t);
+    store_flags<Arch>(clipped, scratch.clipped.data() + t);
+  }
+  search_row_march<Fma>(f, scratch, t, f.target_width);
+}
+
+// ---- single (scalar twin: search_row_single) ----
+
+template <class Arch, class Fma>
+void simd_single(const Frame& f, RowScratch& scratch) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  const float* parallax = scratch.parallax;
+  const int probe_offset = point_offset(f.probe);
+  const F s(f.s), key_near(f.key_near), lanes = lane_offsets<Arch>();
+  int t = 0;
+  for (; t + L <= f.target_width; t += L) {
+    const int target0 = t + f.guard;
+    const F surface = F::load_unaligned(parallax + target0 + probe_offset);
+    (F(static_cast<float>(target0)) + lanes - surface).store_unaligned(scratch.source_x.data() + t);
+    store_flags<Arch>(s * surface > key_near, scratch.clipped.data() + t);
+  }
+  search_row_single<Fma>(f, scratch, t, f.target_width);
+}
+
+// ---- the column march of scanline and secant (scalar twin: march_columns) ----
+// Lanes in `done` keep `offset`; the others get the offset of their first crossing.
+
+template <class Arch, class Fma>
+xsimd::batch<float, Arch> simd_march_columns(const Frame& f, const float* parallax, int target0, float o_start,
+                                             xsimd::batch<float, Arch> gap_prev, xsimd::batch_bool<float, Arch> done,
+                                             xsimd::batch<float, Arch> offset, float o_end) {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  const F s(f.s), zero(0.0f);
+  const ColumnWalk walk = column_walk(f, o_start, o_end);
+  float o_prev = o_start;
+  for (int o = walk.first; walking(walk, o); o += walk.step) {
+    const float column = static_cast<float>(o);
+    const F gap = s * (F(-column) - F::load_unaligned(parallax + target0 + o));
+    const B hit = (gap <= zero) & !done;
+    if (xsimd::any(hit)) {
+      offset = xsimd::select(hit, intersect_v<Arch, Fma>(F(o_prev), gap_prev, F(column), gap), offset);
+      done = done | hit;
+      if (xsimd::all(done)) return offset;
+    }
+    o_prev = column;
+    gap_prev = gap;
+  }
+  const F gap = s * (F(-o_end) - parallax_at_offset_v<Arch, Fma>(parallax, target0, o_end));
+  const B hit = (gap <= zero) & !done;
+  offset = xsimd::select(hit, intersect_v<Arch, Fma>(F(o_prev), gap_prev, F(o_end), gap), offset);
+  return xsimd::select(done | hit, offset, F(o_end));
+}
+
+// ---- scanline (scalar twin: search_row_scanline) ----
+
+template <class Arch, class Fma>
+void simd_scanline(const Frame& f, RowScratch& scratch) {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  constexpr int L = Lanes<Arch>::size;
+  const float* parallax = scratch.parallax;
+  const float o_near = -f.p_near;
+  const float o_far = -f.p_far;
+  const F s(f.s), zero(0.0f), lanes = lane_offsets<Arch>();
+  int t = 0;
+  for (; t + L <= f.target_width; t += L) {
+    const int target0 = t + f.guard;
+    const F gap_near = s * (F(-o_near) - parallax_at_offset_v<Arch, Fma>(parallax, target0, o_near));
+    const B behind_or_on = gap_near <= zero;
+    F offset(o_near);
+    if (!xsimd::all(behind_or_on))
+      offset = simd_march_columns<Arch, Fma>(f, parallax, target0, o_near, gap_near, behind_or_on, offset, o_far);
+    (F(static_cast<float>(target0)) + lanes + offset).store_unaligned(scratch.source_x.data() + t);
+    store_flags<Arch>(gap_near < zero, scratch.clipped.data() + t);
+  }
+  search_row_scanline<Fma>(f, scratch, t, f.target_width);
+}
+
+// ---- secant (scalar twin: search_row_secant) ----
+
+template <class Arch, class Fma>
+void simd_secant(const Frame& f, RowScratch& scratch) {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  constexpr int L = Lanes<Arch>::size;
+  static_assert(kSecantTile % L == 0, "a tile holds whole vectors");
+  const float* parallax = scratch.parallax;
+  const F s(f.s), zero(0.0f), lanes = lane_offsets<Arch>();
+  build_block_table(f, scratch);
+  int tile = 0;
+  for (; tile + kSecantTile <= f.target_width; tile += kSecantTile) {
+    const TileRay ray = tile_ray(f, scratch, tile);
+    const float o_start = -ray.p_start;
+    const float o_end = -ray.p_end;
+    const float step = (ray.p_end - ray.p_start) / static_cast<float>(f.secant_max_steps);
+    for (int t = tile; t < tile + kSecantTile; t += L) {
+      const int target0 = t + f.guard;
+      const F gap_start = s * (F(-o_start) - parallax_at_offset_v<Arch, Fma>(parallax, target0, o_start));
+      const B behind_or_on = gap_start <= zero;
+      F offset(o_start);
+      if (!xsimd::all(behind_or_on)) {
+        if (ray.column_steps) {
+          offset = simd_march_columns<Arch, Fma>(f, parallax, target0, o_start, gap_start, behind_or_on, offset, o_end);
+        } else {
+          // Fixed steps (lane-invariant offsets: contiguous loads); each bracket is refined per
+          // lane by the scalar reference's own secant iteration.
+          B done = behind_or_on;
+          F gap_prev = gap_start;
+          float o_prev = o_start;
+          alignas(64) float front[L], behind[L], out[L];
+          offset.store_aligned(out);
+          for (int k = 1; k <= f.secant_max_steps && !xsimd::all(done); ++k) {
+            const float o_k = -(k == f.secant_max_steps ? ray.p_end : Fma::madd(static_cast<float>(k), step, ray.p_start));
+            const F gap = s * (F(-o_k) - parallax_at_offset_v<Arch, Fma>(parallax, target0, o_k));
+            const B hit = (gap <= zero) & !done;
+            if (xsimd::any(hit)) {
+              alignas(64) float hit_lane[L];
+              xsimd::select(hit, F(1.0f), zero).store_aligned(hit_lane);
+              gap_prev.store_aligned(front);
+              gap.store_aligned(behind);
+              for (int i = 0; i < L; ++i) {
+                if (hit_lane[i] != 0.0f) out[i] = secant_refine<Fma>(f, parallax, target0 + i, o_prev, front[i], o_k, behind[i]);
+              }
+              done = done | hit;
+            }
+            o_prev = o_k;
+            gap_prev = gap;
+          }
+          offset = xsimd::select(done, F::load_aligned(out), F(o_end));
+        }
+      }
+      (F(static_cast<float>(target0)) + lanes + offset).store_unaligned(scratch.source_x.data() + t);
+      store_flags<Arch>((gap_start < zero) & B(ray.starts_at_near_end), scratch.clipped.data() + t);
+    }
+  }
+  search_row_secant<Fma>(f, scratch, tile, f.target_width);
+}
+
+// ---- resolve (scalar twin: resolve_pixels) ----
+
+template <class Arch, class Fma>
+void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  constexpr int L = Lanes<Arch>::size;
+  int t = 0;
+  if (f.source.color.layout == ColorLayout::planar) {
+    const int channels = f.source.color.channels;
+    const float* source[4];
+    float* target[4];
+    for (int c = 0; c < channels; ++c) {
+      source[c] = f.source.color.plane[c].row(y);
+      target[c] = f.target.color.plane[c].row(y);
+    }
+    const float* parallax = scratch.parallax;
+    const float* depth = f.source.depth.row(y);
+    float* depth_out = f.target.depth.data ? f.target.depth.row(y) : nullptr;
+    std::uint8_t* status_out = f.target.status.data ? f.target.status.row(y) : nullptr;
+    float* x_out = f.target.source_x.data ? f.target.source_x.row(y) : nullptr;
+    const F zero(0.0f), one(1.0f), last(static_cast<float>(f.source_width - 1)), tau(f.hole_threshold), s(f.s);
+    const bool fill_foreground = f.hole_fill == HoleFill::foreground;
+    const B edge_written(f.edge == EdgeMode::clamp);
+    const B holes_written(f.hole_fill != HoleFill::none);
+
+    for (; t + L <= f.target_width; t += L) {
+      const F x = F::load_unaligned(scratch.source_x.data() + t);
+      const B clipped = load_flags<Arch>(scratch.clipped.data() + t);
+      const B outside = ((x < zero) | (x > last)) & !clipped;
+      const B in_row = !(clipped | outside);
+      const F xc = xsimd::min(xsimd::max(x, zero), last);  // == x in the row
+      F j0 = xsimd::floor(xc);
+      F j1 = xsimd::min(j0 + one, last);
+      F frac = xc - j0;
+      const F p0 = gather_at<Arch>(parallax, j0);
+      const F p1 = gather_at<Arch>(parallax, j1);
+      const B hole = ((p1 - p0) > tau) & in_row;
+      if (xsimd::any(hole)) {
+        // A wall (§5): the farther endpoint has the smaller key s * p.
+        const B j1_farther = s * p1 < s * p0;
+        const F farther = xsimd::select(j1_farther, j1, j0);
+        const F nearer = xsimd::select(j1_farther, j0, j1);
+        const F fill = fill_foreground ? nearer : farther;
+        j0 = xsimd::select(hole, fill, j0);
+        j1 = xsimd::select(hole, fill, j1);
+        frac = xsimd::select(hole, zero, frac);
+      }
+      const B write = !((outside & !edge_written) | (hole & !holes_written));
+      for (int c = 0; c < channels; ++c) {
+        const F c0 = gather_at<Arch>(source[c], j0);
+        const F value = vmadd<Fma>(frac, gather_at<Arch>(source[c], j1) - c0, c0);
+        xsimd::select(write, value, F::load_unaligned(target[c] + t)).store_unaligned(target[c] + t);
+      }
+      if (depth_out) {
+        const F d0 = gather_at<Arch>(depth, j0);
+        const F d1 = gather_at<Arch>(depth, j1);
+        F value;
+        if (f.affine) {
+          value = vmadd<Fma>(frac, d1 - d0, d0);
+        } else {
+          const F w0 = one / d0;
+          value = one / vmadd<Fma>(frac, one / d1 - w0, w0);
+        }
+        xsimd::select(write, value, F::load_unaligned(depth_out + t)).store_unaligned(depth_out + t);
+      }
+      if (status_out) {
+        const F status = xsimd::select(clipped, F(3.0f), xsimd::select(outside, F(2.0f), xsimd::select(hole, one, zero)));
+        alignas(64) float value[L];
+        status.store_aligned(value);
+        for (int i = 0; i < L; ++i) status_out[t + i] = static_cast<std::uint8_t>(value[i]);
+      }
+      if (x_out) x.store_unaligned(x_out + t);
+    }
+  }
+  resolve_pixels<Fma>(f, y, scratch, t, f.target_width);  // the tail, and interleaved colour
+}
+
+template <class Arch, class Fma>
+KernelTable make_simd_table(const char* name) {
+  KernelTable table{};
+  table.name = name;
+  table.decode = simd_decode<Arch, Fma>;
+  table.search[static_cast<int>(Method::scanline)] = simd_scanline<Arch, Fma>;
+  table.search[static_cast<int>(Method::march16)] = simd_march<Arch, Fma>;
+  table.search[static_cast<int>(Method::single)] = simd_single<Arch, Fma>;
+  table.search[static_cast<int>(Method::secant)] = simd_secant<Arch, Fma>;
+  // The forward sweep is sequential by nature: its SIMD tables share the scalar sweep, and
+  // the vectorised decode and resolve stages around it.
+  table.search[static_cast<int>(Method::exact)] = [](const Frame& f, RowScratch& scratch) {
+    search_row_exact<Fma>(f, scratch, 0, f.target_width);
+  };
+  table.resolve = simd_resolve<Arch, Fma>;
+  return table;
+}
+
+}  // namespace
+}  // namespace detail
+}  // namespace reproject
