@@ -70,8 +70,22 @@ struct Options {
   int guard = 0;  // guard band columns on each side of the source: target width = source width - 2 guard
   std::optional<float> probe_parallax;  // `single`: parallax of its one sample; unset: a (infinity)
   int march_steps = 16;                 // `march16`: number of equal steps (1..1024)
-  int secant_max_steps = 64;            // `secant`: most march steps per 16-pixel tile (1..4096)
+  // `secant`: most march steps per 16-pixel tile (1..4096). Spans up to this many pixels are
+  // walked column by column (exact); wider ones take this many equal steps and refine by secant,
+  // and can then step over a feature thinner than one step.
+  int secant_max_steps = 256;
   std::optional<Arch> arch;             // unset: selected_arch(); an unsupported one is an error
+  // Rows are split over this many threads of the library's persistent pool (the calling thread
+  // is one of them); 0: one per hardware thread; 1: the calling thread only. Ignored by the
+  // overloads that take a ParallelFor. The output does not depend on it, bit for bit.
+  int threads = 0;
+};
+
+// An engine's own job system: `run` must call task(task_context, i) once for every i in
+// [0, count), in any order and on any threads, and return when all calls have returned.
+struct ParallelFor {
+  void* context = nullptr;
+  void (*run)(void* context, int count, void (*task)(void* task_context, int index), void* task_context) = nullptr;
 };
 
 // The view being reprojected. Depth and colour have the same size: the target's width plus
@@ -97,11 +111,18 @@ struct TargetView {
 Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                  const Options& options, const TargetView& target) noexcept;
 
+// The same, with the rows split over the caller's job system instead of the library's pool.
+Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target, const ParallelFor& jobs) noexcept;
+
 // Centre view to both eyes in one call: `centre_to_right` is the model for the right eye
 // (e.g. StereoCamera::parallax(width, EyeDirection::centre_to_right)); the left eye uses its
 // mirror (-a, -b). Each eye's default near limit is its own frame's.
 Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder,
                       const ParallaxModel& centre_to_right, const Options& options,
                       const TargetView& left, const TargetView& right) noexcept;
+Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder,
+                      const ParallaxModel& centre_to_right, const Options& options,
+                      const TargetView& left, const TargetView& right, const ParallelFor& jobs) noexcept;
 
 }  // namespace reproject
