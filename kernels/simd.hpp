@@ -10,6 +10,7 @@
 
 #include <immintrin.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <type_traits>
 #include <xsimd/xsimd.hpp>
@@ -73,22 +74,130 @@ xsimd::batch<float, Arch> gather_at(const float* base, const xsimd::batch<float,
   return gather<Arch>(base, xsimd::to_int(index));
 }
 
+// Horizontal minimum / maximum of a vector.
 template <class Arch>
-void store_flags(const xsimd::batch_bool<float, Arch>& flags, std::uint8_t* out) {
-  using F = typename Lanes<Arch>::F;
+float lane_min(const xsimd::batch<float, Arch>& v) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of<xsimd::avx512f, Arch>::value) return _mm512_reduce_min_ps(v);
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
+    __m256 m = _mm256_min_ps(v, _mm256_permute2f128_ps(v, v, 1));
+    m = _mm256_min_ps(m, _mm256_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+    m = _mm256_min_ps(m, _mm256_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+    return _mm256_cvtss_f32(m);
+  }
+#endif
   constexpr int L = Lanes<Arch>::size;
-  alignas(64) float value[L];
-  xsimd::select(flags, F(1.0f), F(0.0f)).store_aligned(value);
-  for (int i = 0; i < L; ++i) out[i] = value[i] != 0.0f;
+  alignas(64) float lanes[L];
+  v.store_aligned(lanes);
+  return *std::min_element(lanes, lanes + L);
+}
+template <class Arch>
+float lane_max(const xsimd::batch<float, Arch>& v) {
+  return -lane_min<Arch>(-v);
+}
+
+// The resolve stage's data-dependent reads (DESIGN §6 SIMD hints). On smooth surfaces a vector's
+// source columns span fewer than two vectors: then two contiguous loads and a two-source permute
+// replace each gather, which is much cheaper than a hardware gather (on AVX2 and AVX-512). The
+// same two column sets are read from every plane of the row, so the plan is made once per
+// vector and the lane indices once per column set.
+template <class Arch>
+class ColumnFetch {
+ public:
+  using F = typename Lanes<Arch>::F;
+  using I = typename Lanes<Arch>::I;
+  static constexpr int L = Lanes<Arch>::size;
+#if defined(__AVX512F__)
+  static constexpr bool kPermute = std::is_base_of<xsimd::avx512f, Arch>::value || std::is_base_of<xsimd::avx2, Arch>::value;
+#elif defined(__AVX2__)
+  static constexpr bool kPermute = std::is_base_of<xsimd::avx2, Arch>::value;
+#else
+  static constexpr bool kPermute = false;
+#endif
+
+  // Columns first[i] and second[i] (first <= second) will be read from rows that hold at
+  // least `row_length` columns; the loads read base .. base + 2L - 1, all inside them.
+  ColumnFetch(const F& first, const F& second, int row_length) {
+    if constexpr (kPermute) {
+      const float lowest = lane_min<Arch>(first);
+      base_ = static_cast<int>(lowest);
+      contiguous_ = lane_max<Arch>(second) - lowest < static_cast<float>(2 * L) && base_ + 2 * L <= row_length;
+    }
+    bind(first, second);
+  }
+  // The columns changed (hole fills), within the planned range.
+  void bind(const F& first, const F& second) {
+    const F offset(contiguous_ ? static_cast<float>(base_) : 0.0f);
+    first_ = xsimd::to_int(first - offset);
+    second_ = xsimd::to_int(second - offset);
+  }
+  F first(const float* row) const { return fetch(row, first_); }
+  F second(const float* row) const { return fetch(row, second_); }
+
+ private:
+  F fetch(const float* row, const I& index) const {
+    if constexpr (kPermute) {
+      if (contiguous_) {
+        const F low = F::load_unaligned(row + base_);
+        const F high = F::load_unaligned(row + base_ + L);
+#if defined(__AVX512F__)
+        if constexpr (std::is_base_of<xsimd::avx512f, Arch>::value) {
+          return _mm512_permutex2var_ps(low, index, high);
+        }
+#endif
+#if defined(__AVX2__)
+        if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
+          const __m256 from_low = _mm256_permutevar8x32_ps(low, index);
+          const __m256 from_high = _mm256_permutevar8x32_ps(high, index);
+          const __m256 use_high = _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, _mm256_set1_epi32(L - 1)));
+          return _mm256_blendv_ps(from_low, from_high, use_high);
+        }
+#endif
+      }
+    }
+    return gather<Arch>(row, index);
+  }
+
+  bool contiguous_ = false;
+  int base_ = 0;
+  I first_, second_;
+};
+
+template <class Arch>
+void store_flags(const xsimd::batch_bool<float, Arch>& flags, float* out) {
+  using F = typename Lanes<Arch>::F;
+  xsimd::select(flags, F(1.0f), F(0.0f)).store_unaligned(out);
 }
 
 template <class Arch>
-xsimd::batch_bool<float, Arch> load_flags(const std::uint8_t* in) {
+xsimd::batch_bool<float, Arch> load_flags(const float* in) {
   using F = typename Lanes<Arch>::F;
+  return F::load_unaligned(in) != F(0.0f);
+}
+
+// Stores small non-negative integral floats (the PixelStatus values) as bytes.
+template <class Arch>
+void store_bytes(const xsimd::batch<float, Arch>& value, std::uint8_t* out) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of<xsimd::avx512f, Arch>::value) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm512_cvtusepi32_epi8(_mm512_cvttps_epi32(value)));
+    return;
+  }
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
+    const __m256i words = _mm256_cvttps_epi32(value);
+    const __m128i halves = _mm_packus_epi32(_mm256_castsi256_si128(words), _mm256_extracti128_si256(words, 1));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out), _mm_packus_epi16(halves, halves));
+    return;
+  }
+#endif
   constexpr int L = Lanes<Arch>::size;
-  alignas(64) float value[L];
-  for (int i = 0; i < L; ++i) value[i] = in[i] ? 1.0f : 0.0f;
-  return F::load_aligned(value) != F(0.0f);
+  alignas(64) float lanes[L];
+  value.store_aligned(lanes);
+  for (int i = 0; i < L; ++i) out[i] = static_cast<std::uint8_t>(lanes[i]);
 }
 
 // Parallax at a lane-invariant offset from each lane's target column: two contiguous loads.
@@ -318,22 +427,24 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
     float* x_out = f.target.source_x.data ? f.target.source_x.row(y) : nullptr;
     const F zero(0.0f), one(1.0f), last(static_cast<float>(f.source_width - 1)), tau(f.hole_threshold), s(f.s);
     const bool fill_foreground = f.hole_fill == HoleFill::foreground;
-    const B edge_written(f.edge == EdgeMode::clamp);
-    const B holes_written(f.hole_fill != HoleFill::none);
+    const bool edges_written = f.edge == EdgeMode::clamp;
+    const bool holes_written = f.hole_fill != HoleFill::none;
 
     for (; t + L <= f.target_width; t += L) {
       const F x = F::load_unaligned(scratch.source_x.data() + t);
       const B clipped = load_flags<Arch>(scratch.clipped.data() + t);
       const B outside = ((x < zero) | (x > last)) & !clipped;
-      const B in_row = !(clipped | outside);
       const F xc = xsimd::min(xsimd::max(x, zero), last);  // == x in the row
       F j0 = xsimd::floor(xc);
       F j1 = xsimd::min(j0 + one, last);
       F frac = xc - j0;
-      const F p0 = gather_at<Arch>(parallax, j0);
-      const F p1 = gather_at<Arch>(parallax, j1);
-      const B hole = ((p1 - p0) > tau) & in_row;
-      if (xsimd::any(hole)) {
+      // Every column read below lies in [j0, j1] (a fill picks one of the two).
+      ColumnFetch<Arch> columns(j0, j1, f.source_width);
+      const F p0 = columns.first(parallax);
+      const F p1 = columns.second(parallax);
+      const B hole = ((p1 - p0) > tau) & !(clipped | outside);
+      const bool any_hole = xsimd::any(hole);
+      if (any_hole) {
         // A wall (§5): the farther endpoint has the smaller key s * p.
         const B j1_farther = s * p1 < s * p0;
         const F farther = xsimd::select(j1_farther, j1, j0);
@@ -342,30 +453,31 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
         j0 = xsimd::select(hole, fill, j0);
         j1 = xsimd::select(hole, fill, j1);
         frac = xsimd::select(hole, zero, frac);
+        columns.bind(j0, j1);
       }
-      const B write = !((outside & !edge_written) | (hole & !holes_written));
+      // Lanes whose colour and depth are left to the caller keep the target's values.
+      const bool masked = (!edges_written && xsimd::any(outside)) || (!holes_written && any_hole);
+      const B write = !((outside & B(!edges_written)) | (hole & B(!holes_written)));
+      auto store = [&](float* out, const F& value) {
+        (masked ? xsimd::select(write, value, F::load_unaligned(out)) : value).store_unaligned(out);
+      };
       for (int c = 0; c < channels; ++c) {
-        const F c0 = gather_at<Arch>(source[c], j0);
-        const F value = vmadd<Fma>(frac, gather_at<Arch>(source[c], j1) - c0, c0);
-        xsimd::select(write, value, F::load_unaligned(target[c] + t)).store_unaligned(target[c] + t);
+        const F c0 = columns.first(source[c]);
+        store(target[c] + t, vmadd<Fma>(frac, columns.second(source[c]) - c0, c0));
       }
       if (depth_out) {
-        const F d0 = gather_at<Arch>(depth, j0);
-        const F d1 = gather_at<Arch>(depth, j1);
-        F value;
+        const F d0 = columns.first(depth);
+        const F d1 = columns.second(depth);
         if (f.affine) {
-          value = vmadd<Fma>(frac, d1 - d0, d0);
+          store(depth_out + t, vmadd<Fma>(frac, d1 - d0, d0));
         } else {
           const F w0 = one / d0;
-          value = one / vmadd<Fma>(frac, one / d1 - w0, w0);
+          store(depth_out + t, one / vmadd<Fma>(frac, one / d1 - w0, w0));
         }
-        xsimd::select(write, value, F::load_unaligned(depth_out + t)).store_unaligned(depth_out + t);
       }
       if (status_out) {
-        const F status = xsimd::select(clipped, F(3.0f), xsimd::select(outside, F(2.0f), xsimd::select(hole, one, zero)));
-        alignas(64) float value[L];
-        status.store_aligned(value);
-        for (int i = 0; i < L; ++i) status_out[t + i] = static_cast<std::uint8_t>(value[i]);
+        store_bytes<Arch>(xsimd::select(clipped, F(3.0f), xsimd::select(outside, F(2.0f), xsimd::select(hole, one, zero))),
+                          status_out + t);
       }
       if (x_out) x.store_unaligned(x_out + t);
     }
