@@ -1,0 +1,2 @@
+// The stereo pipeline around reprojection (include/reproject/stereo.hpp): in progress.
+#include "reproject/reproject.hpp"
