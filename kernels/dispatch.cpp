@@ -92,7 +92,9 @@ bool parse_arch(const char* name, Arch* out) noexcept {
 }
 
 bool arch_supported(Arch arch) noexcept {
-  return detail::compiled_kernels(arch) != nullptr && cpu_supports(arch);
+  // The CPU first: compiled_kernels() runs code of the set's own translation unit (its table's
+  // initialiser), which the compiler may build with that set's instructions (SIGILL otherwise).
+  return cpu_supports(arch) && detail::compiled_kernels(arch) != nullptr;
 }
 
 Arch selected_arch() noexcept {

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 
+#include "kernels/frame_rows.hpp"
+#include "kernels/secant.hpp"
+
 namespace reproject {
 namespace detail {
 namespace {
@@ -41,10 +44,10 @@ struct RowIo {
 // for affine encodings, 1/d for linear depth.
 template <class Fma>
 float interpolate_depth(const Frame& f, float d0, float d1, float frac) {
-  if (f.affine) return Fma::madd(frac, d1 - d0, d0);
+  if (f.affine) return madd<Fma>(frac, d1 - d0, d0);
   const float w0 = 1.0f / d0;
   const float w1 = 1.0f / d1;
-  return 1.0f / Fma::madd(frac, w1 - w0, w0);
+  return 1.0f / madd<Fma>(frac, w1 - w0, w0);
 }
 
 }  // namespace
@@ -52,6 +55,12 @@ float interpolate_depth(const Frame& f, float d0, float d1, float frac) {
 template <class Fma>
 void decode_parallax_columns(const Frame& f, const float* depth, float* parallax, int begin, int end) {
   for (int i = begin; i < end; ++i) parallax[i] = decode_parallax<Fma>(f, depth[i]);
+}
+
+template <class Fma>
+float nearest_key_in_columns(const Frame& f, const float* depth, int begin, int end, float nearest) {
+  for (int i = begin; i < end; ++i) nearest = std::max(nearest, f.s * decode_parallax<Fma>(f, depth[i]));
+  return nearest;
 }
 
 template <class Fma>
@@ -100,7 +109,7 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
     if (write) {
       for (int c = 0; c < io.channels; ++c) {
         const float c0 = io.source(c, j0);
-        io.target(c, t) = Fma::madd(frac, io.source(c, j1) - c0, c0);
+        io.target(c, t) = madd<Fma>(frac, io.source(c, j1) - c0, c0);
       }
       if (depth_out) depth_out[t] = interpolate_depth<Fma>(f, depth[j0], depth[j1], frac);
     }
@@ -111,6 +120,8 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
 
 template void decode_parallax_columns<Fused>(const Frame&, const float*, float*, int, int);
 template void decode_parallax_columns<Unfused>(const Frame&, const float*, float*, int, int);
+template float nearest_key_in_columns<Fused>(const Frame&, const float*, int, int, float);
+template float nearest_key_in_columns<Unfused>(const Frame&, const float*, int, int, float);
 template void resolve_pixels<Fused>(const Frame&, int, const RowScratch&, int, int);
 template void resolve_pixels<Unfused>(const Frame&, int, const RowScratch&, int, int);
 
@@ -120,6 +131,10 @@ namespace {
 template <class Fma>
 void scalar_decode(const Frame& f, const float* depth, float* parallax) {
   decode_parallax_columns<Fma>(f, depth, parallax, 0, f.source_width);
+}
+template <class Fma>
+float scalar_nearest_key(const Frame& f, const float* depth) {
+  return nearest_key_in_columns<Fma>(f, depth, 0, f.source_width, f.key_far);
 }
 template <class Fma, void (*Search)(const Frame&, RowScratch&, int, int)>
 void scalar_search(const Frame& f, RowScratch& scratch) {
@@ -134,6 +149,7 @@ KernelTable make_scalar_table(const char* name) {
   KernelTable table{};
   table.name = name;
   table.decode = scalar_decode<Fma>;
+  table.nearest_key = scalar_nearest_key<Fma>;
   table.search[static_cast<int>(Method::scanline)] = scalar_search<Fma, search_row_scanline<Fma>>;
   table.search[static_cast<int>(Method::march16)] = scalar_search<Fma, search_row_march<Fma>>;
   table.search[static_cast<int>(Method::single)] = scalar_search<Fma, search_row_single<Fma>>;
@@ -143,30 +159,13 @@ KernelTable make_scalar_table(const char* name) {
   return table;
 }
 
-// Scratch for the calling thread, reused across rows and calls.
+// Scratch for the calling thread, reused across rows and calls (the sequential make_frame() and
+// run_rows(); the threaded calls bring their own).
 RowScratch& thread_scratch(const Frame& f) {
   thread_local RowScratch scratch;
-  const std::size_t padded = static_cast<std::size_t>(f.pad_left) + f.source_width + f.pad_right;
-  if (scratch.parallax_storage.size() < padded) scratch.parallax_storage.resize(padded);
-  if (scratch.source_x.size() < static_cast<std::size_t>(f.target_width)) {
-    scratch.source_x.resize(f.target_width);
-    scratch.clipped.resize(f.target_width);
-  }
+  prepare_scratch(f, scratch);
   scratch.parallax = scratch.parallax_storage.data() + f.pad_left;
   return scratch;
-}
-
-// The nearest key s * p in the whole frame: the default near end of every ray (DESIGN §5), so
-// that nothing is clipped. Decoded with the same kernels as the rows.
-float nearest_key_in_frame(const Frame& f, const KernelTable& kernels) {
-  RowScratch& scratch = thread_scratch(f);
-  float* parallax = scratch.parallax_storage.data();
-  float nearest = f.key_far;
-  for (int y = 0; y < f.height; ++y) {
-    kernels.decode(f, f.source.depth.row(y), parallax);
-    for (int i = 0; i < f.source_width; ++i) nearest = std::max(nearest, f.s * parallax[i]);
-  }
-  return nearest;
 }
 
 }  // namespace
@@ -177,8 +176,8 @@ const KernelTable& scalar_kernels(bool fused) {
   return fused ? fused_table : unfused_table;
 }
 
-Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
-                 const Options& options, const TargetView& target, const KernelTable& kernels) {
+Frame plan_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target) {
   Frame f;
   f.source = source;
   f.target = target;
@@ -199,21 +198,24 @@ Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
   f.p_far = clampf(model.a, -f.limit, f.limit);
   f.key_far = f.s * f.p_far;
 
-  if (options.max_negative_parallax) {
-    f.key_near = std::max(std::min(*options.max_negative_parallax, f.limit), f.key_far);
-  } else {
-    f.key_near = nearest_key_in_frame(f, kernels);
-  }
-  f.p_near = f.s * f.key_near;
-
   f.hole_threshold = options.hole_threshold;
   f.hole_fill = options.hole_fill;
   f.edge = options.edge;
   f.method = options.method;
   f.march_steps = options.march_steps;
-  f.march_step = (f.p_far - f.p_near) / static_cast<float>(options.march_steps);
   f.probe = options.probe_parallax ? clampf(*options.probe_parallax, -f.limit, f.limit) : f.p_far;
   f.secant_max_steps = options.secant_max_steps;
+
+  f.near_from_frame = !options.max_negative_parallax;
+  if (options.max_negative_parallax)
+    set_near_key(f, std::max(std::min(*options.max_negative_parallax, f.limit), f.key_far));
+  return f;
+}
+
+void set_near_key(Frame& f, float key_near) {
+  f.key_near = key_near;
+  f.p_near = f.s * f.key_near;
+  f.march_step = (f.p_far - f.p_near) / static_cast<float>(f.march_steps);
 
   // Columns a search may read: x = t' - p for t' in [guard, guard + Wt - 1] and p between the
   // extremes below, plus one column for interpolation and one for rounding.
@@ -221,11 +223,48 @@ Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
   const float p_min = std::min({f.p_near, f.p_far, f.probe});
   f.pad_left = static_cast<int>(std::max(0.0f, std::ceil(p_max - static_cast<float>(f.guard)))) + 2;
   f.pad_right = static_cast<int>(std::max(0.0f, std::ceil(-p_min - static_cast<float>(f.guard)))) + 3;
+}
+
+float nearest_key_in_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin,
+                          int row_end) {
+  // Decoded with the same kernels (and FMA policy) as the rows.
+  (void)scratch;
+  float nearest = f.key_far;
+  for (int y = row_begin; y < row_end; ++y) nearest = std::max(nearest, kernels.nearest_key(f, f.source.depth.row(y)));
+  return nearest;
+}
+
+void prepare_scratch(const Frame& f, RowScratch& scratch) {
+  // Every parallax the plan holds (p_near, p_far, probe) lies in [-limit, limit], so this is
+  // set_near_key()'s padding at its widest.
+  const int pad = static_cast<int>(std::max(0.0f, std::ceil(f.limit - static_cast<float>(f.guard))));
+  const std::size_t padded = static_cast<std::size_t>(pad + 2) + f.source_width + static_cast<std::size_t>(pad + 3);
+  if (scratch.parallax_storage.size() < padded) scratch.parallax_storage.resize(padded);
+  if (scratch.source_x.size() < static_cast<std::size_t>(f.target_width)) {
+    scratch.source_x.resize(f.target_width);
+    scratch.clipped.resize(f.target_width);
+  }
+  // `secant` sizes its block table itself on first use; doing it here keeps that first use from
+  // allocating inside a row on whichever thread happens to run it.
+  const std::size_t blocks = static_cast<std::size_t>((f.source_width + kSecantBlock - 1) / kSecantBlock);
+  if (scratch.block_min.size() < blocks) {
+    scratch.block_min.resize(blocks);
+    scratch.block_max.resize(blocks);
+  }
+}
+
+Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target, const KernelTable& kernels) {
+  Frame f = plan_frame(source, decoder, model, options, target);
+  // The nearest key s * p in the whole frame: the default near end of every ray (DESIGN §5), so
+  // that nothing is clipped.
+  if (!options.max_negative_parallax)
+    set_near_key(f, nearest_key_in_rows(f, kernels, thread_scratch(f), 0, f.height));
   return f;
 }
 
-void run_rows(const Frame& f, const KernelTable& kernels, int row_begin, int row_end) {
-  RowScratch& scratch = thread_scratch(f);
+void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin, int row_end) {
+  scratch.parallax = scratch.parallax_storage.data() + f.pad_left;
   float* parallax = scratch.parallax_storage.data() + f.pad_left;
   const SearchRow search = kernels.search[static_cast<int>(f.method)];
   for (int y = row_begin; y < row_end; ++y) {
@@ -234,6 +273,10 @@ void run_rows(const Frame& f, const KernelTable& kernels, int row_begin, int row
     search(f, scratch);
     kernels.resolve(f, y, scratch);
   }
+}
+
+void run_rows(const Frame& f, const KernelTable& kernels, int row_begin, int row_end) {
+  run_rows(f, kernels, thread_scratch(f), row_begin, row_end);
 }
 
 }  // namespace detail

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "reproject/reproject.hpp"
@@ -36,6 +37,7 @@ struct Frame {
   float p_near = 0.0f;
   float key_far = 0.0f;   // s * p_far
   float key_near = 0.0f;  // s * p_near
+  bool near_from_frame = false;  // p_near is the frame's nearest parallax (the default)
 
   float hole_threshold = 1.0f;
   HoleFill hole_fill = HoleFill::background;
@@ -62,22 +64,33 @@ struct RowScratch {
   const float* parallax = nullptr;  // column 0 of the padded row
 };
 
-// The FMA policy. Every multiply-add of the kernels is written through one of these, so a scalar
-// reference and its SIMD twin round alike: Fused for the FMA instruction sets (and the default
-// scalar reference), Unfused for the SSE baseline, which has no FMA. The build sets
+// The FMA policy, as tag types. Every multiply-add of the kernels is written madd<Fma>(a, b, c),
+// so a scalar reference and its SIMD twin round alike: Fused for the FMA instruction sets (and
+// the default scalar reference), Unfused for the SSE baseline, which has no FMA. The build sets
 // -ffp-contract=off, so Unfused really is two roundings.
-struct Fused {
-  static float madd(float a, float b, float c) noexcept { return std::fma(a, b, c); }
-};
-struct Unfused {
-  static float madd(float a, float b, float c) noexcept { return a * b + c; }
-};
+struct Fused {};
+struct Unfused {};
+
+// The helpers below are compiled into both the baseline translation units and the per-arch ones
+// (with AVX2 or AVX-512 flags). They live in an anonymous namespace so that each translation unit
+// keeps its own copy: with external linkage the linker could keep an AVX-512 body for a caller
+// on the baseline path (STYLE.md, "ODR").
+namespace {
+
+template <class Fma>
+inline float madd(float a, float b, float c) noexcept {
+  if constexpr (std::is_same<Fma, Fused>::value) {
+    return std::fma(a, b, c);
+  } else {
+    return a * b + c;
+  }
+}
 
 // The decoded parallax of a stored depth value, made total (BEHAVIOUR.md "Non-finite and
 // out-of-range depth"): NaN or farther than infinity -> p_far; nearer than L -> s * L.
 template <class Fma>
-float raw_parallax(const Frame& f, float depth) noexcept {
-  return f.affine ? Fma::madd(f.decode_scale, depth, f.decode_offset) : Fma::madd(f.b, 1.0f / depth, f.a);
+inline float raw_parallax(const Frame& f, float depth) noexcept {
+  return f.affine ? madd<Fma>(f.decode_scale, depth, f.decode_offset) : madd<Fma>(f.b, 1.0f / depth, f.a);
 }
 inline float clean_parallax(const Frame& f, float p) noexcept {
   const float key = f.s * p;
@@ -86,24 +99,24 @@ inline float clean_parallax(const Frame& f, float p) noexcept {
   return p;
 }
 template <class Fma>
-float decode_parallax(const Frame& f, float depth) noexcept {
+inline float decode_parallax(const Frame& f, float depth) noexcept {
   return clean_parallax(f, raw_parallax<Fma>(f, depth));
 }
 
 // g = s ((t' - x) - P(x)): > 0 while the ray is in front of the surface (BEHAVIOUR.md).
 // Linear intersection of g between a sample in front (gap_front > 0) and one on or behind.
 template <class Fma>
-float intersect(float x_front, float gap_front, float x_behind, float gap_behind) noexcept {
+inline float intersect(float x_front, float gap_front, float x_behind, float gap_behind) noexcept {
   const float t = gap_front / (gap_front - gap_behind);
-  return Fma::madd(t, x_behind - x_front, x_front);
+  return madd<Fma>(t, x_behind - x_front, x_front);
 }
 
 // Interpolated parallax at a continuous source position inside the padded row.
 template <class Fma>
-float parallax_at(const float* parallax, float x) noexcept {
+inline float parallax_at(const float* parallax, float x) noexcept {
   const float column = std::floor(x);
   const int j = static_cast<int>(column);
-  return Fma::madd(x - column, parallax[j + 1] - parallax[j], parallax[j]);
+  return madd<Fma>(x - column, parallax[j + 1] - parallax[j], parallax[j]);
 }
 
 // The marching methods work in *offsets* o = x - t' from the target column: a fixed-step
@@ -112,10 +125,10 @@ float parallax_at(const float* parallax, float x) noexcept {
 
 // Parallax at offset o from target column t' (o's integer part and fraction are lane-invariant).
 template <class Fma>
-float parallax_at_offset(const float* parallax, int target, float offset) noexcept {
+inline float parallax_at_offset(const float* parallax, int target, float offset) noexcept {
   const float whole = std::floor(offset);
   const float* p = parallax + target + static_cast<int>(whole);
-  return Fma::madd(offset - whole, p[1] - p[0], p[0]);
+  return madd<Fma>(offset - whole, p[1] - p[0], p[0]);
 }
 inline float gap_at_offset(const Frame& f, float offset, float surface_parallax) noexcept {
   return f.s * (-offset - surface_parallax);
@@ -143,7 +156,7 @@ inline bool walking(const ColumnWalk& walk, int o) noexcept { return walk.step >
 // every integer offset strictly between o_start and o_end in direction s, then o_end; return the
 // offset of the first crossing (linear on its segment), or o_end if none is found by rounding.
 template <class Fma>
-float march_columns(const Frame& f, const float* parallax, int target, float o_start, float gap_start,
+inline float march_columns(const Frame& f, const float* parallax, int target, float o_start, float gap_start,
                     float o_end) noexcept {
   const ColumnWalk walk = column_walk(f, o_start, o_end);
   float o_prev = o_start;
@@ -159,6 +172,8 @@ float march_columns(const Frame& f, const float* parallax, int target, float o_s
   return gap <= 0.0f ? intersect<Fma>(o_prev, gap_prev, o_end, gap) : o_end;
 }
 
+}  // namespace
+
 // Each method's scalar reference over target pixels [t_begin, t_end) of the current row: writes
 // x (source columns) and the clipped flag per target pixel. The resolve stage turns them into
 // outputs. (exact sweeps the whole row: it ignores the range.)
@@ -171,15 +186,18 @@ template <class Fma> void search_row_exact(const Frame& f, RowScratch& scratch, 
 // The shared stages' scalar references: decode columns [begin, end) of a row (no padding), and
 // resolve target pixels [t_begin, t_end) of row y.
 template <class Fma> void decode_parallax_columns(const Frame& f, const float* depth, float* parallax, int begin, int end);
+template <class Fma> float nearest_key_in_columns(const Frame& f, const float* depth, int begin, int end, float nearest);
 template <class Fma> void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begin, int t_end);
 
 // One instruction set's kernels: every stage of every method.
 using DecodeRow = void (*)(const Frame& f, const float* depth, float* parallax);
 using SearchRow = void (*)(const Frame& f, RowScratch& scratch);
 using ResolveRow = void (*)(const Frame& f, int y, const RowScratch& scratch);
+using NearestKey = float (*)(const Frame& f, const float* depth);  // max of key_far and s * p over a row
 struct KernelTable {
   const char* name;
   DecodeRow decode;
+  NearestKey nearest_key;
   SearchRow search[kMethodCount];
   ResolveRow resolve;
 };

@@ -13,7 +13,7 @@ void search_row_march(const Frame& f, RowScratch& scratch, int t_begin, int t_en
     float x = static_cast<float>(target) - f.p_far;  // no hit: the far end
     bool clipped = false;
     for (int k = 0; k <= f.march_steps; ++k) {
-      const float ray_parallax = Fma::madd(static_cast<float>(k), f.march_step, f.p_near);
+      const float ray_parallax = madd<Fma>(static_cast<float>(k), f.march_step, f.p_near);
       const float surface = parallax[target + point_offset(ray_parallax)];
       if (f.s * surface >= f.s * ray_parallax) {  // on or behind
         x = static_cast<float>(target) - surface;

@@ -120,7 +120,7 @@ float march_steps(const Frame& f, const float* parallax, int target, float p_sta
   float o_prev = -p_start;
   float gap_prev = gap_start;
   for (int k = 1; k <= f.secant_max_steps; ++k) {
-    const float offset = -(k == f.secant_max_steps ? p_end : Fma::madd(static_cast<float>(k), step, p_start));
+    const float offset = -(k == f.secant_max_steps ? p_end : madd<Fma>(static_cast<float>(k), step, p_start));
     const float gap = gap_at_offset(f, offset, parallax_at_offset<Fma>(parallax, target, offset));
     if (gap <= 0.0f) return secant_refine<Fma>(f, parallax, target, o_prev, gap_prev, offset, gap);
     o_prev = offset;

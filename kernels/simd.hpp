@@ -15,6 +15,7 @@
 #include <type_traits>
 #include <xsimd/xsimd.hpp>
 
+#include "kernels/exact_sweep.hpp"
 #include "kernels/frame.hpp"
 #include "kernels/secant.hpp"
 
@@ -132,37 +133,50 @@ class ColumnFetch {
     const F offset(contiguous_ ? static_cast<float>(base_) : 0.0f);
     first_ = xsimd::to_int(first - offset);
     second_ = xsimd::to_int(second - offset);
+#if defined(__AVX2__)
+    if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
+      first_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(first_, _mm256_set1_epi32(L - 1)));
+      second_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(second_, _mm256_set1_epi32(L - 1)));
+    }
+#endif
   }
-  F first(const float* row) const { return fetch(row, first_); }
-  F second(const float* row) const { return fetch(row, second_); }
-
- private:
-  F fetch(const float* row, const I& index) const {
+  // A row's values at both column sets, from one pair of loads when contiguous.
+  void fetch(const float* row, F& at_first, F& at_second) const {
     if constexpr (kPermute) {
       if (contiguous_) {
         const F low = F::load_unaligned(row + base_);
         const F high = F::load_unaligned(row + base_ + L);
 #if defined(__AVX512F__)
         if constexpr (std::is_base_of<xsimd::avx512f, Arch>::value) {
-          return _mm512_permutex2var_ps(low, index, high);
+          at_first = _mm512_permutex2var_ps(low, first_, high);
+          at_second = _mm512_permutex2var_ps(low, second_, high);
+          return;
         }
 #endif
 #if defined(__AVX2__)
         if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
-          const __m256 from_low = _mm256_permutevar8x32_ps(low, index);
-          const __m256 from_high = _mm256_permutevar8x32_ps(high, index);
-          const __m256 use_high = _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, _mm256_set1_epi32(L - 1)));
-          return _mm256_blendv_ps(from_low, from_high, use_high);
+          // AVX2's permute reaches one register: permute both, then take each lane's own.
+          at_first = _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, first_), _mm256_permutevar8x32_ps(high, first_),
+                                      first_high_);
+          at_second = _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, second_),
+                                       _mm256_permutevar8x32_ps(high, second_), second_high_);
+          return;
         }
 #endif
       }
     }
-    return gather<Arch>(row, index);
+    at_first = gather<Arch>(row, first_);
+    at_second = gather<Arch>(row, second_);
   }
 
+ private:
   bool contiguous_ = false;
   int base_ = 0;
   I first_, second_;
+#if defined(__AVX2__)
+  __m256 first_high_ = _mm256_setzero_ps();  // lanes that come from the second load
+  __m256 second_high_ = _mm256_setzero_ps();
+#endif
 };
 
 template <class Arch>
@@ -238,6 +252,26 @@ void simd_decode(const Frame& f, const float* depth, float* parallax) {
   decode_parallax_columns<Fma>(f, depth, parallax, i, f.source_width);
 }
 
+// The default near end's pass (scalar twin: nearest_key_in_columns): the same decode, reduced
+// with max (order-independent, and no NaN survives the decode, so any order gives the same bits).
+template <class Arch, class Fma>
+float simd_nearest_key(const Frame& f, const float* depth) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
+  const F key_far(f.key_far), limit(f.limit), one(1.0f);
+  F nearest = key_far;
+  int i = 0;
+  for (; i + L <= f.source_width; i += L) {
+    const F d = F::load_unaligned(depth + i);
+    const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+    const F key = s * p;
+    // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
+    nearest = xsimd::max(nearest, xsimd::select(key >= key_far, xsimd::min(key, limit), key_far));
+  }
+  return nearest_key_in_columns<Fma>(f, depth, i, f.source_width, lane_max<Arch>(nearest));
+}
+
 // ---- march16 (scalar twin: search_row_march) ----
 
 template <class Arch, class Fma>
@@ -255,7 +289,7 @@ void simd_march(const Frame& f, RowScratch& scratch) {
     B done(false);
     B clipped(false);
     for (int k = 0; k <= f.march_steps; ++k) {
-      const float ray_parallax = Fma::madd(static_cast<float>(k), f.march_step, f.p_near);
+      const float ray_parallax = madd<Fma>(static_cast<float>(k), f.march_step, f.p_near);
       // The k-th sample of every lane is at the same offset: one contiguous load.
       const F surface = F::load_unaligned(parallax + target0 + point_offset(ray_parallax));
       const B hit = (s * surface >= F(f.s * ray_parallax)) & !done;
@@ -378,7 +412,7 @@ void simd_secant(const Frame& f, RowScratch& scratch) {
           alignas(64) float front[L], behind[L], out[L];
           offset.store_aligned(out);
           for (int k = 1; k <= f.secant_max_steps && !xsimd::all(done); ++k) {
-            const float o_k = -(k == f.secant_max_steps ? ray.p_end : Fma::madd(static_cast<float>(k), step, ray.p_start));
+            const float o_k = -(k == f.secant_max_steps ? ray.p_end : madd<Fma>(static_cast<float>(k), step, ray.p_start));
             const F gap = s * (F(-o_k) - parallax_at_offset_v<Arch, Fma>(parallax, target0, o_k));
             const B hit = (gap <= zero) & !done;
             if (xsimd::any(hit)) {
@@ -440,8 +474,8 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
       F frac = xc - j0;
       // Every column read below lies in [j0, j1] (a fill picks one of the two).
       ColumnFetch<Arch> columns(j0, j1, f.source_width);
-      const F p0 = columns.first(parallax);
-      const F p1 = columns.second(parallax);
+      F p0, p1;
+      columns.fetch(parallax, p0, p1);
       const B hole = ((p1 - p0) > tau) & !(clipped | outside);
       const bool any_hole = xsimd::any(hole);
       if (any_hole) {
@@ -462,12 +496,13 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
         (masked ? xsimd::select(write, value, F::load_unaligned(out)) : value).store_unaligned(out);
       };
       for (int c = 0; c < channels; ++c) {
-        const F c0 = columns.first(source[c]);
-        store(target[c] + t, vmadd<Fma>(frac, columns.second(source[c]) - c0, c0));
+        F c0, c1;
+        columns.fetch(source[c], c0, c1);
+        store(target[c] + t, vmadd<Fma>(frac, c1 - c0, c0));
       }
       if (depth_out) {
-        const F d0 = columns.first(depth);
-        const F d1 = columns.second(depth);
+        F d0, d1;
+        columns.fetch(depth, d0, d1);
         if (f.affine) {
           store(depth_out + t, vmadd<Fma>(frac, d1 - d0, d0));
         } else {
@@ -490,15 +525,14 @@ KernelTable make_simd_table(const char* name) {
   KernelTable table{};
   table.name = name;
   table.decode = simd_decode<Arch, Fma>;
+  table.nearest_key = simd_nearest_key<Arch, Fma>;
   table.search[static_cast<int>(Method::scanline)] = simd_scanline<Arch, Fma>;
   table.search[static_cast<int>(Method::march16)] = simd_march<Arch, Fma>;
   table.search[static_cast<int>(Method::single)] = simd_single<Arch, Fma>;
   table.search[static_cast<int>(Method::secant)] = simd_secant<Arch, Fma>;
-  // The forward sweep is sequential by nature: its SIMD tables share the scalar sweep, and
-  // the vectorised decode and resolve stages around it.
-  table.search[static_cast<int>(Method::exact)] = [](const Frame& f, RowScratch& scratch) {
-    search_row_exact<Fma>(f, scratch, 0, f.target_width);
-  };
+  // The forward sweep is sequential by nature: each table compiles the scalar sweep with its own
+  // flags, between the vectorised decode and resolve stages.
+  table.search[static_cast<int>(Method::exact)] = sweep_row<Fma>;
   table.resolve = simd_resolve<Arch, Fma>;
   return table;
 }

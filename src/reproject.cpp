@@ -1,13 +1,20 @@
-// The entry points: validate everything once (never inside the pixel loops), then run the rows.
+// The entry points: validate everything once (never inside the pixel loops), then run the rows,
+// split in bands over the library's thread pool or the caller's job system.
 #include "reproject/reproject.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <memory>
+#include <vector>
 
 #include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
+#include "kernels/frame_rows.hpp"
+#include "src/thread_pool.hpp"
 
 namespace reproject {
 namespace {
@@ -90,6 +97,12 @@ Status check_options(const Options& options) {
     return Status(StatusCode::invalid_option, "probe_parallax: %g is not finite", *options.probe_parallax);
   if (options.arch && !arch_supported(*options.arch))
     return Status(StatusCode::invalid_option, "arch: %s is not supported by this build and CPU", to_string(*options.arch));
+  if (options.threads < 0) return Status(StatusCode::invalid_option, "threads: %d is negative", options.threads);
+  return Status();
+}
+
+Status check_jobs(const ParallelFor& jobs) {
+  if (jobs.run == nullptr) return Status(StatusCode::invalid_option, "jobs: ParallelFor::run is null");
   return Status();
 }
 
@@ -182,6 +195,202 @@ const detail::KernelTable& kernels_for(const Options& options) {
 
 bool empty_frame(const SourceView& source) { return source.depth.width == 0 || source.depth.height == 0; }
 
+// ---- Rows over threads --------------------------------------------------------------------------
+// A call runs in at most two parallel phases over bands of contiguous rows: the default near
+// limit (each band's nearest key, reduced in band order) and then the rows. A pair's two eyes
+// share each phase. Rows are independent and the reduction is the sequential one regrouped, so
+// the output does not depend on the number of threads or bands, bit for bit.
+
+// Several bands per thread: a thread that finishes early takes another (rows differ in cost:
+// walls, holes, secant's adaptive march), and the last band to finish is short.
+constexpr int kBandsPerThread = 8;
+// A bound on the bands of one frame, so that the per-call arrays live on the stack.
+constexpr int kMaxBands = 512;
+
+using detail::Frame;
+using detail::KernelTable;
+using detail::RowScratch;
+using detail::ThreadPool;
+
+// One thread's row scratch, on cache lines of its own (a task writes its row pointer).
+struct alignas(64) ScratchSlot {
+  RowScratch scratch;
+  std::atomic<bool> busy{false};  // held by a ParallelFor task for its duration
+};
+
+// The scratch of the calls made from one thread. Slot k serves the pool job's participant k
+// (0: the caller), or any ParallelFor task that holds it. It outlives the call so that a call
+// with the sizes of an earlier one allocates nothing; the calling thread owns it because it is
+// blocked in the call for as long as anyone uses it.
+struct ScratchSet {
+  std::vector<std::unique_ptr<ScratchSlot>> slots;
+  bool in_use = false;
+
+  // At least `count` slots, the first `prepared` of them sized for f's widths.
+  void reserve(int count, int prepared, const Frame& f) {
+    while (static_cast<int>(slots.size()) < count) slots.push_back(std::make_unique<ScratchSlot>());
+    for (int k = 0; k < prepared; ++k) detail::prepare_scratch(f, slots[static_cast<std::size_t>(k)]->scratch);
+  }
+};
+
+// The calling thread's set, or a fresh one when a call is made from inside another on the same
+// thread (a job system that runs other work while it waits): that call allocates its scratch.
+class ScratchSetLease {
+ public:
+  ScratchSetLease() {
+    thread_local ScratchSet reused;
+    set_ = reused.in_use ? &fresh_ : &reused;
+    set_->in_use = true;
+  }
+  ~ScratchSetLease() { set_->in_use = false; }
+  ScratchSetLease(const ScratchSetLease&) = delete;
+  ScratchSetLease& operator=(const ScratchSetLease&) = delete;
+  ScratchSet& set() { return *set_; }
+
+ private:
+  ScratchSet fresh_;
+  ScratchSet* set_;
+};
+
+// What every task of a phase reads. Task i is band i % bands of frame i / bands.
+struct RowPhase {
+  const KernelTable* kernels = nullptr;
+  const Frame* frames = nullptr;
+  int bands = 1;
+  bool near_pass = false;  // true: nearest[i] = band i's nearest key; false: run band i's rows
+  float* nearest = nullptr;
+  std::unique_ptr<ScratchSlot>* slots = nullptr;
+  int slot_count = 0;
+};
+
+void run_band(const RowPhase& phase, int index, RowScratch& scratch) {
+  const Frame& f = phase.frames[index / phase.bands];
+  const long long band = index % phase.bands;
+  const int begin = static_cast<int>(f.height * band / phase.bands);
+  const int end = static_cast<int>(f.height * (band + 1) / phase.bands);
+  if (phase.near_pass)
+    phase.nearest[index] = detail::nearest_key_in_rows(f, *phase.kernels, scratch, begin, end);
+  else
+    detail::run_rows(f, *phase.kernels, scratch, begin, end);
+}
+
+// The pool names the thread's slot; the caller prepared every slot the job can use. The tasks
+// are noexcept: nothing may unwind into the pool or into a caller's job system.
+void pool_task(void* context, int index, int slot) noexcept {
+  const RowPhase& phase = *static_cast<const RowPhase*>(context);
+  run_band(phase, index, phase.slots[slot]->scratch);
+}
+
+// A job system's threads are not ours to name: a task takes any free slot. There are as many
+// slots as tasks, so one is free; lowest first, so that slots beyond the job system's
+// concurrency stay unused (their buffers never sized).
+void jobs_task(void* context, int index) noexcept {
+  const RowPhase& phase = *static_cast<const RowPhase*>(context);
+  ScratchSlot* slot = nullptr;
+  while (slot == nullptr) {
+    for (int k = 0; k < phase.slot_count && slot == nullptr; ++k) {
+      ScratchSlot* candidate = phase.slots[k].get();
+      if (!candidate->busy.load(std::memory_order_relaxed) && !candidate->busy.exchange(true, std::memory_order_acquire))
+        slot = candidate;
+    }
+  }
+  detail::prepare_scratch(phase.frames[0], slot->scratch);  // a no-op once sized
+  run_band(phase, index, slot->scratch);
+  slot->busy.store(false, std::memory_order_release);
+}
+
+void run_phase(RowPhase& phase, int count, ThreadPool* pool, int threads, const ParallelFor* jobs) {
+  if (jobs != nullptr) {
+    jobs->run(jobs->context, count, jobs_task, &phase);
+  } else if (pool != nullptr) {
+    pool->run(count, threads, pool_task, &phase);
+  } else {
+    for (int i = 0; i < count; ++i) pool_task(&phase, i, 0);
+  }
+}
+
+// Runs every row of `frame_count` frames (one, or a pair's two eyes) planned from one source
+// with `options`; completes their near limit first when the options leave it to the data.
+// `jobs` null: the library's pool with Options::threads.
+void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, const Options& options,
+                const ParallelFor* jobs) {
+  const int height = frames[0].height;
+  int threads = 1;
+  int bands = 1;
+  ThreadPool* pool = nullptr;
+  if (jobs != nullptr) {
+    // The job system's width is unknown: size the bands for one thread per hardware thread.
+    bands = std::min({height, detail::hardware_threads() * kBandsPerThread, kMaxBands});
+  } else {
+    threads = options.threads > 0 ? std::min(options.threads, ThreadPool::kMaxThreads) : detail::hardware_threads();
+    if (threads > 1) {
+      pool = ThreadPool::shared();
+      bands = std::min({height, threads * kBandsPerThread, kMaxBands});
+    }
+  }
+  const int tasks = bands * frame_count;
+
+  ScratchSetLease lease;
+  ScratchSet& set = lease.set();
+  // Pool: one slot per participant (no more than there are tasks), all prepared. Job system: one
+  // per task, the first few prepared (as many as a job system with a thread per hardware
+  // thread, or 4, uses at once; a wider one sizes its extra slots on first use).
+  const int slot_count = jobs != nullptr ? tasks : std::min(threads, tasks);
+  const int prepared = jobs != nullptr ? std::min(tasks, std::max(detail::hardware_threads(), 4)) : slot_count;
+  set.reserve(slot_count, prepared, frames[0]);
+
+  float nearest[2 * kMaxBands];
+  RowPhase phase;
+  phase.kernels = &kernels;
+  phase.frames = frames;
+  phase.bands = bands;
+  phase.nearest = nearest;
+  phase.slots = set.slots.data();
+  phase.slot_count = slot_count;
+  if (!options.max_negative_parallax) {
+    phase.near_pass = true;
+    run_phase(phase, tasks, pool, slot_count, jobs);
+    for (int k = 0; k < frame_count; ++k) {
+      // In band order from key_far, as the sequential pass over the whole frame does.
+      float key = frames[k].key_far;
+      for (int b = 0; b < bands; ++b) key = std::max(key, nearest[k * bands + b]);
+      detail::set_near_key(frames[k], key);
+    }
+    phase.near_pass = false;
+  }
+  run_phase(phase, tasks, pool, slot_count, jobs);
+}
+
+Status reproject_one(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
+                     const ParallaxModel& model, const Options& options, const TargetView& target,
+                     const ParallelFor* jobs) {
+  Status status = check_inputs(source, decoder, model, options);
+  if (!status.ok() || empty_frame(source)) return status;
+  if (!(status = check_target(source, options, target, "target")).ok()) return status;
+  const TargetView* targets[1] = {&target};
+  if (!(status = check_aliasing(source, targets, 1)).ok()) return status;
+  Frame frame = detail::plan_frame(source, decoder, model, options, target);
+  run_frames(kernels, &frame, 1, options, jobs);
+  return Status();
+}
+
+Status reproject_two(const SourceView& centre, const DepthDecoder& decoder, const ParallaxModel& centre_to_right,
+                     const Options& options, const TargetView& left, const TargetView& right,
+                     const ParallelFor* jobs) {
+  const ParallaxModel centre_to_left{-centre_to_right.a, -centre_to_right.b};
+  Status status = check_inputs(centre, decoder, centre_to_right, options);
+  if (!status.ok() || empty_frame(centre)) return status;
+  if (!(status = check_target(centre, options, left, "left")).ok()) return status;
+  if (!(status = check_target(centre, options, right, "right")).ok()) return status;
+  const TargetView* targets[2] = {&left, &right};
+  if (!(status = check_aliasing(centre, targets, 2)).ok()) return status;
+
+  Frame frames[2] = {detail::plan_frame(centre, decoder, centre_to_left, options, left),
+                     detail::plan_frame(centre, decoder, centre_to_right, options, right)};
+  run_frames(kernels_for(options), frames, 2, options, jobs);
+  return Status();
+}
+
 }  // namespace
 
 const char* to_string(Method method) noexcept {
@@ -204,14 +413,7 @@ namespace detail {
 
 Status reproject_with(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
                       const ParallaxModel& model, const Options& options, const TargetView& target) {
-  Status status = check_inputs(source, decoder, model, options);
-  if (!status.ok() || empty_frame(source)) return status;
-  if (!(status = check_target(source, options, target, "target")).ok()) return status;
-  const TargetView* targets[1] = {&target};
-  if (!(status = check_aliasing(source, targets, 1)).ok()) return status;
-  const Frame frame = make_frame(source, decoder, model, options, target, kernels);
-  run_rows(frame, kernels, 0, frame.height);
-  return Status();
+  return reproject_one(kernels, source, decoder, model, options, target, nullptr);
 }
 
 }  // namespace detail
@@ -220,25 +422,28 @@ Status reproject(const SourceView& source, const DepthDecoder& decoder, const Pa
                  const Options& options, const TargetView& target) noexcept {
   Status status = check_options(options);
   if (!status.ok()) return status;
-  return detail::reproject_with(kernels_for(options), source, decoder, model, options, target);
+  return reproject_one(kernels_for(options), source, decoder, model, options, target, nullptr);
+}
+
+Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target, const ParallelFor& jobs) noexcept {
+  Status status = check_jobs(jobs);
+  if (!status.ok()) return status;
+  if (!(status = check_options(options)).ok()) return status;
+  return reproject_one(kernels_for(options), source, decoder, model, options, target, &jobs);
 }
 
 Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder, const ParallaxModel& centre_to_right,
                       const Options& options, const TargetView& left, const TargetView& right) noexcept {
-  const ParallaxModel centre_to_left{-centre_to_right.a, -centre_to_right.b};
-  Status status = check_inputs(centre, decoder, centre_to_right, options);
-  if (!status.ok() || empty_frame(centre)) return status;
-  if (!(status = check_target(centre, options, left, "left")).ok()) return status;
-  if (!(status = check_target(centre, options, right, "right")).ok()) return status;
-  const TargetView* targets[2] = {&left, &right};
-  if (!(status = check_aliasing(centre, targets, 2)).ok()) return status;
+  return reproject_two(centre, decoder, centre_to_right, options, left, right, nullptr);
+}
 
-  const detail::KernelTable& kernels = kernels_for(options);
-  const detail::Frame left_frame = detail::make_frame(centre, decoder, centre_to_left, options, left, kernels);
-  detail::run_rows(left_frame, kernels, 0, left_frame.height);
-  const detail::Frame right_frame = detail::make_frame(centre, decoder, centre_to_right, options, right, kernels);
-  detail::run_rows(right_frame, kernels, 0, right_frame.height);
-  return Status();
+Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder, const ParallaxModel& centre_to_right,
+                      const Options& options, const TargetView& left, const TargetView& right,
+                      const ParallelFor& jobs) noexcept {
+  const Status status = check_jobs(jobs);
+  if (!status.ok()) return status;
+  return reproject_two(centre, decoder, centre_to_right, options, left, right, &jobs);
 }
 
 }  // namespace reproject

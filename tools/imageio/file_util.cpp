@@ -23,11 +23,19 @@ const char* to_string(IoError error) noexcept {
     case IoError::unsupported: return "unsupported";
     case IoError::out_of_memory: return "out_of_memory";
     case IoError::write_failed: return "write_failed";
+    case IoError::size_mismatch: return "size_mismatch";
   }
   return "unknown";
 }
 
 namespace detail {
+
+IoStatus read_error(const std::string& path, int code) {
+  return failure(IoError::read_failed,
+                 "cannot read " + quote_path(path) + ": " + (code != 0 ? system_error_text(code) : "unknown error"));
+}
+
+std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
 IoStatus failure(IoError error, std::string message) {
   IoStatus status;
@@ -155,10 +163,9 @@ IoStatus check_writable(const ColorView& color) {
       return failure(IoError::invalid_argument, "plane " + std::to_string(c) + " has no data");
     }
     if (plane.width != width || plane.height != height) {
-      return failure(IoError::invalid_argument, "plane " + std::to_string(c) + " is " +
-                                                    std::to_string(plane.width) + "x" +
-                                                    std::to_string(plane.height) + ", plane 0 is " +
-                                                    std::to_string(width) + "x" + std::to_string(height));
+      return failure(IoError::size_mismatch, "size mismatch: plane " + std::to_string(c) + " is " +
+                                                 size_text(plane.width, plane.height) + ", plane 0 is " +
+                                                 size_text(width, height));
     }
     if (plane.stride < floats_per_pixel * width) {
       return failure(IoError::invalid_argument, "plane " + std::to_string(c) + " has stride " +

@@ -14,6 +14,13 @@ IoStatus failure(IoError error, std::string message);
 std::string quote_path(const std::string& path);
 // strerror(code) as a string.
 std::string system_error_text(int code);
+// read_failed: "cannot read 'path': <strerror(code)>".
+IoStatus read_error(const std::string& path, int code);
+// "WxH" for messages.
+std::string size_text(int width, int height);
+
+// Larger images are refused (unsupported) instead of attempting multi-GiB allocations.
+constexpr unsigned long long kMaxPixels = 1ULL << 28;
 
 // Closes on destruction.
 class InputFile {
@@ -56,12 +63,17 @@ class ReplacingFile {
 std::uint32_t quantise(float value, std::uint32_t max_value) noexcept;
 
 // Checks that `color` can be written: 1-4 channels (4 when interleaved), a non-empty size, data
-// present, strides covering the row, every plane the same size.
+// present, strides covering the row, every plane the same size (else size_mismatch).
 IoStatus check_writable(const ColorView& color);
 // Sample c of pixel x in row y, whatever the layout.
 inline float sample(const ColorView& color, int c, int x, int y) noexcept {
   if (color.layout == ColorLayout::interleaved_rgba) return color.plane[0].row(y)[4 * x + c];
   return color.plane[c].row(y)[x];
 }
+
+// The OpenEXR reader as read_image and read_depth use it (exr.cpp): the colour, with the depth
+// channel when there is one; or only the depth channel (or the single channel), in out->image.
+IoStatus read_exr_color(const std::string& path, LoadedImage* out);
+IoStatus read_exr_depth(const std::string& path, LoadedImage* out);
 
 }  // namespace reproject::io::detail

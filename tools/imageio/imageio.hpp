@@ -1,6 +1,10 @@
-// Image files for the tests and the tools (not part of the kernel library): PNG through libpng.
-// Pixels are planar reproject::Image float planes holding the stored integer values
-// (0..255 or 0..65535), never rescaled, gamma-corrected or colour-managed.
+// Image files for the tests and the tools (not part of the kernel library): PNG through libpng,
+// PFM by hand, OpenEXR through the OpenEXR library, and a generic front end that picks the format
+// by the file name's extension.
+//
+// Pixels are planar reproject::Image float planes holding the stored values: PNG's integers
+// (0..255 or 0..65535), PFM's and EXR's floats (half channels widened to float). Nothing is
+// rescaled, gamma-corrected or colour-managed.
 //
 // Every function reports failure as a value and nothing throws out of it. Writers build the file
 // under a temporary name next to the destination and rename it into place only once it is
@@ -8,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "reproject/image.hpp"
@@ -19,12 +24,13 @@ enum class IoError : std::uint8_t {
   invalid_argument,  // a null output, an empty image, an unsupported channel count or bit depth
   open_failed,       // the file cannot be opened (missing, no permission, ...)
   read_failed,       // reading failed (an I/O error, a directory, ...)
-  not_this_format,   // the file is not of the format read (e.g. no PNG signature)
+  not_this_format,   // the file is not of the format read (e.g. no PNG signature), unknown extension
   truncated,         // the file ends before the image does
-  corrupt,           // the format's decoder rejected the data (CRC error, bad chunk, ...)
-  unsupported,       // valid data this reader does not handle (e.g. larger than the size limit)
+  corrupt,           // the format's decoder rejected the data (CRC error, bad chunk, bad header, ...)
+  unsupported,       // valid data this reader does not handle (a channel layout, the size limit)
   out_of_memory,
   write_failed,      // creating, writing or renaming the output failed
+  size_mismatch,     // images (or planes) that must have one size do not
 };
 const char* to_string(IoError error) noexcept;
 
@@ -37,11 +43,24 @@ struct IoStatus {
   explicit operator bool() const noexcept { return ok(); }
 };
 
-// A decoded image: planar float planes with the stored values, and the bits per stored sample.
+enum class FileFormat : std::uint8_t { unknown, png, pfm, exr };
+const char* to_string(FileFormat format) noexcept;
+// The format named by the extension of `path`, case-insensitive: .png, .pfm, .exr; else unknown.
+FileFormat format_from_path(const std::string& path);
+
+// A decoded image: planar float planes with the stored values.
 struct LoadedImage {
-  Image image;        // 1 plane grey, 2 grey + alpha, 3 RGB, 4 RGBA
-  int bit_depth = 0;  // 8 or 16 for PNG: values lie in 0 .. 2^bit_depth - 1
+  Image image;        // 1 plane grey, 2 grey + alpha, 3 RGB, 4 RGBA (read_depth: the one plane)
+  int bit_depth = 0;  // PNG 8 or 16 (values in 0 .. 2^bit_depth - 1); PFM 32; EXR 16 when every
+                      // channel read is half, else 32
+  FileFormat format = FileFormat::unknown;
+  // EXR only (read_exr, read_image): the depth channel when the file has one, else empty.
+  Image depth;
+  std::string color_layer;    // EXR: the layer prefix of the colour channels read ("" top level)
+  std::string depth_channel;  // EXR: the full name of the channel read as depth ("" none)
 };
+
+// ---- PNG ----
 
 // Reads a PNG file: 8- and 16-bit grey, grey + alpha, RGB and RGBA as stored. Other forms are
 // expanded by libpng to one of these: palette to RGB (RGBA if it has a transparency chunk),
@@ -54,5 +73,89 @@ IoStatus read_png(const std::string& path, LoadedImage* out);
 // interleaved RGBA). Values are rounded to the nearest integer and clamped to
 // 0 .. 2^bit_depth - 1; NaN is written as 0. An existing file at `path` is replaced.
 IoStatus write_png(const std::string& path, const ColorView& color, int bit_depth = 8);
+
+// ---- PFM (portable float map) ----
+//
+// "PF" (3 channels, RGB) or "Pf" (1 channel), then width and height, then a scale whose sign
+// gives the byte order of the 32-bit IEEE floats (negative: little-endian, positive: big-endian)
+// and whose magnitude is ignored; one whitespace byte, then the rows from the *bottom* of the
+// image to the top. Values are stored and read back bit for bit (NaN and infinities included).
+
+enum class ByteOrder : std::uint8_t { little, big };
+
+// On failure `*out` is left empty. Data after the last row is ignored.
+IoStatus read_pfm(const std::string& path, LoadedImage* out);
+// `color` must have 1 or 3 channels (planar); 2 or 4 are refused rather than silently dropping
+// alpha: pass a view of the first 3 planes to drop it.
+IoStatus write_pfm(const std::string& path, const ColorView& color, ByteOrder order = ByteOrder::little);
+
+// ---- OpenEXR ----
+//
+// Reading: single-part scanline or tiled files (the first part of a multi-part file); deep data
+// is refused. Every channel read is converted to float; the image is the data window (the display
+// window is ignored). Channels with x/y subsampling are refused.
+//
+// Which channels are read (names are case-sensitive unless said otherwise; a "layer" is the
+// prefix before the last '.'):
+//  * Colour: the top-level R, G, B (and A if present); else the one layer L with L.R, L.G, L.B
+//    (and L.A), preferring, among several, the single one whose last component is "Combined"
+//    (Blender's beauty pass, "ViewLayer.Combined.R"); else the top-level Y (and A): grey.
+//    Several candidate layers and no single "Combined" one is an error (name one in the options).
+//  * Depth: the top-level Z; else a top-level channel named "depth" in any case; else a channel
+//    whose last component is Z or "depth" (any case) in a layer whose last component is "Depth"
+//    (any case), e.g. Blender's "ViewLayer.Depth.Z"; else the only other channel whose last
+//    component is Z or "depth" (e.g. "render.Z"). In the last two steps a layer that also has an
+//    X or Y channel (a vector pass: Blender's Normal, Vector, Position) or whose last component is
+//    "Mist" (Blender's mist pass keeps a 0..1 fog factor in Z) is never taken. More than one
+//    candidate at the step that decides is an error (name one in the options).
+struct ExrReadOptions {
+  std::optional<std::string> color_layer;    // unset: the rule above; "" top-level R,G,B; "L": L.R, L.G, L.B
+  std::optional<std::string> depth_channel;  // unset: the rule above; "": read no depth; else a full channel name
+};
+
+enum class ExrPixelType : std::uint8_t { half, float32 };
+
+struct ExrWriteOptions {
+  ExrPixelType color_type = ExrPixelType::float32;  // half rounds to nearest; beyond +-65504 is inf
+  ExrPixelType depth_type = ExrPixelType::float32;
+  std::string color_layer;          // "": channels R, G, B, A (Y, A for grey); "L": L.R, L.G, ...
+  std::string depth_channel = "Z";  // full name, e.g. "ViewLayer.Depth.Z"
+};
+
+// On failure `*out` is left empty. Succeeds when the file has colour or depth (or both): a file
+// with neither is an unsupported channel layout.
+IoStatus read_exr(const std::string& path, LoadedImage* out, const ExrReadOptions& options = {});
+// Writes `color` (1 Y, 2 Y A, 3 R G B or 4 R G B A channels; or none: channels == 0) and, when
+// `depth` is not null, the depth plane, which must have the colour's size. ZIP compression
+// (lossless). At least one of colour and depth must be given.
+IoStatus write_exr(const std::string& path, const ColorView& color, const FloatPlane* depth = nullptr,
+                   const ExrWriteOptions& options = {});
+
+// ---- By extension ----
+
+struct WriteOptions {
+  int png_bit_depth = 0;  // 8 or 16; 0: 8 for write_image, 16 for write_depth
+  ByteOrder pfm_byte_order = ByteOrder::little;
+  ExrWriteOptions exr;
+};
+
+// The colour image of a .png, .pfm or .exr file (read_png, read_pfm, read_exr). An EXR's depth
+// channel, when present, comes along in `out->depth`; an EXR without colour channels is an error
+// (read it with read_depth). Any other extension is an error (not_this_format).
+IoStatus read_image(const std::string& path, LoadedImage* out);
+IoStatus write_image(const std::string& path, const ColorView& color, const WriteOptions& options = {});
+
+// A single-channel depth or disparity image, as stored, in `out->image` (one plane):
+//  * PNG: 8- or 16-bit grey (the stored integers; e.g. Middlebury disparity PNGs hold 4 x the
+//    disparity: scale as the data set says);
+//  * PFM: "Pf";
+//  * EXR: the depth channel of the rule above; a file without one but with exactly one channel
+//    (whatever its name) gives that channel.
+// Anything else (an RGB PNG or PFM, several EXR channels and none named as depth) is an
+// unsupported channel layout.
+IoStatus read_depth(const std::string& path, LoadedImage* out);
+// PNG: grey, quantised like write_png (16-bit unless options say 8); PFM: "Pf"; EXR: one channel
+// named options.exr.depth_channel of type options.exr.depth_type.
+IoStatus write_depth(const std::string& path, const FloatPlane& depth, const WriteOptions& options = {});
 
 }  // namespace reproject::io

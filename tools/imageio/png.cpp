@@ -28,9 +28,9 @@ using detail::failure;
 using detail::quote_path;
 
 constexpr std::size_t kSignatureSize = 8;
-// Larger images are refused (unsupported) instead of attempting multi-GiB allocations; libpng's
-// own limits (1,000,000 rows and columns) apply as well.
-constexpr unsigned long long kMaxPixels = 1ULL << 28;
+// Larger images than detail::kMaxPixels are refused; libpng's own limits (1,000,000 rows and
+// columns) apply as well.
+using detail::kMaxPixels;
 
 // What the callbacks know and report: plain data only (see the top of the file).
 struct PngSession {
@@ -222,6 +222,7 @@ IoStatus read_png_file(const std::string& path, LoadedImage* out) {
   }
   out->image = std::move(image);
   out->bit_depth = layout.bit_depth;
+  out->format = FileFormat::png;
   return {};
 }
 

@@ -33,12 +33,25 @@ constexpr double kRightEye = 0.5;
 // Default horizontal field of view: 60 degrees, in radians.
 constexpr double kDefaultHorizontalFov = 1.0471975511965976;
 
-// Built-in scenes. Add new ones at the end, with a builder in scene.cpp and a name in to_string.
+// Built-in scenes. Add new ones at the end, with a builder in scene.cpp, a name in to_string and
+// an entry in kAllScenes. Every scene stands in the same room shell (a tiled floor and a brick
+// back wall that every ray meets) and shares its depth range and recommended stereo camera, so
+// that one set of warp flags fits them all; each of the others holds one of the default scene's
+// features alone, with the same geometry and texture as in `room`.
 enum class SceneId : std::uint8_t {
-  room,  // the default: room, boxes, a thin pole, spheres, a near object and an edge object
+  room,     // the default: room, boxes, a thin pole, spheres, a near object and an edge object
+  boxes,    // the room with boxes at several depths (one of them yawed: slanted faces)
+  pole,     // a 2-px-wide pole in front of the textured back wall
+  spheres,  // curved depth: a large sphere in the middle distance and the near sphere
+  near,     // an object in front of the convergence plane (negative parallax)
+  edge,     // a box cut by the left viewport edge, in front of the convergence plane
 };
+constexpr SceneId kAllScenes[] = {SceneId::room,    SceneId::boxes, SceneId::pole,
+                                  SceneId::spheres, SceneId::near,  SceneId::edge};
 const char* to_string(SceneId id) noexcept;
 bool parse_scene(const char* name, SceneId* out) noexcept;
+// One line for help texts: what the scene shows.
+const char* describe(SceneId id) noexcept;
 
 struct Vec3 {
   double x = 0.0, y = 0.0, z = 0.0;
@@ -128,6 +141,16 @@ class Scene {
   // (0: hardware concurrency); the result does not depend on the thread count.
   Status render(const Camera& camera, View* out, int threads = 0) const;
 
+  // The pixels of `target`'s view that a reprojection from `source`'s view can get right: 1 where
+  // the surface point the target pixel sees is also the first surface the source eye sees in its
+  // direction, at a source column within [0, source.width - 1]; 0 elsewhere (disocclusions, the
+  // strip the source never saw, pixels that see nothing). Decided by tracing in double, not from
+  // images: the target's hit point P is projected into the source (same row, column u) and the
+  // source ray through (u, row) must meet P itself (same depth to 1e-9 relative). Row-major,
+  // `target.width` bytes a row. Both cameras must have the same height.
+  Status visible_in_both(const Camera& target, const Camera& source, std::vector<std::uint8_t>* out,
+                         int threads = 0) const;
+
   // Object kinds and materials; public so that scene builders in scene.cpp can fill them in.
   enum class Shape : std::uint8_t { plane_y, plane_z, box, sphere, cylinder_y };
   enum class Material : std::uint8_t { floor_tiles, bricks, checker, stripes, bands };
@@ -143,6 +166,9 @@ class Scene {
     float color_a[3] = {1, 1, 1};
     float color_b[3] = {0, 0, 0};
     double scale = 1.0;  // texture feature size, view-space units
+    // Seeds the texture noise. Builders give each object the index it has in the default scene,
+    // so that an object looks the same in every scene that holds it.
+    std::uint32_t texture_seed = 0;
     // Filled in by add(), to keep them out of the per-ray path: the yaw's cosine and sine, and
     // the squared radius of a sphere around a box (rays that miss it skip the slab test).
     double cos_yaw = 1.0, sin_yaw = 0.0, bound2 = 0.0;

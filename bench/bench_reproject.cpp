@@ -1,0 +1,488 @@
+// reproject_bench: Google Benchmark microbenchmarks of every method on every instruction set this
+// CPU supports, on the built-in scene's centre view, with the memory roofline in the same binary
+// (docs/PERFORMANCE.md; bench/run_benchmarks.py runs it and writes that page).
+//
+// Names (each followed by the "/real_time" Google Benchmark appends, see register_case):
+//   <method>/<arch>/<W>x<H>/threads:<n>             planar RGBA (4 float planes), the default
+//   <method>/<arch>/1920x1080/threads:<n>/sep:<px>  parallax at infinity a = px, scene convergence
+//   <method>/<arch>/1920x1080/threads:<n>/rgba      interleaved RGBA
+//   pair_<method>/<arch>/1920x1080/threads:<n>      centre -> both eyes (reproject_pair)
+//   march16/<arch>/512x512/threads:1/grey           one colour plane: the frame fits in cache
+//   roofline/<W>x<H>/threads:<n>[/grey]             the same bytes streamed by a plain copy
+//
+// Counters: items = target pixels (both eyes for pair_), bytes = what one eye must touch: read
+// depth + colour, write colour + depth + status (no source_x). Benchmarks never assert time.
+#include <benchmark/benchmark.h>
+
+#include <condition_variable>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+#include "reproject/reproject.hpp"
+#include "scene.hpp"
+
+namespace {
+
+using namespace reproject;
+namespace rs = reproject::scene;
+
+struct Size {
+  int width;
+  int height;
+};
+constexpr Size kSizes[] = {{1280, 720}, {1920, 1080}, {3840, 2160}};
+constexpr Size kFullHd = {1920, 1080};
+// Small enough that depth, one colour plane and all outputs (17 B/px, 4.5 MB) stay in L2/L3:
+// the kernels' arithmetic speed without the memory wall.
+constexpr Size kInCache = {512, 512};
+constexpr int kThreadCounts[] = {1, 2};
+constexpr int kSeparations[] = {8, 32, 128};  // parallax at infinity, pixels
+constexpr Method kMethods[] = {Method::scanline, Method::march16, Method::single, Method::secant, Method::exact};
+constexpr Arch kArchs[] = {Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512};
+
+enum class Layout : std::uint8_t {
+  planar_rgba,       // 4 float planes
+  interleaved_rgba,  // one plane, 4 floats a pixel
+  grey,              // 1 float plane
+};
+
+int channels_of(Layout layout) { return layout == Layout::grey ? 1 : 4; }
+
+// Bytes one eye must touch per pixel: read depth + colour, write colour + depth + status.
+std::int64_t bytes_per_pixel(Layout layout) {
+  const std::int64_t colour = 4 * channels_of(layout);
+  return 4 + colour + colour + 4 + 1;
+}
+
+const rs::Scene& the_scene() {
+  static const rs::Scene scene = rs::Scene::make(rs::SceneId::room);
+  return scene;
+}
+
+const DepthDecoder& the_decoder() {
+  static const DepthDecoder decoder = the_scene().decoder(DepthEncoding::standard);
+  return decoder;
+}
+
+// The scene's recommended stereo camera (S = 3 % of the width, convergence mid-range), centre ->
+// right eye: a = 0.015 W, so the parallax range grows with the width as it would in a game.
+ParallaxModel default_model(int width) {
+  return the_scene().camera(width, 1).stereo.parallax(width, EyeDirection::centre_to_right);
+}
+
+// Parallax at infinity of `separation_px` pixels at the scene's convergence: the separation
+// sweep changes only the stereo strength, not where zero parallax lies.
+ParallaxModel model_for_separation(int width, int separation_px) {
+  StereoCamera stereo = the_scene().recommended_stereo();
+  // centre -> right has sigma = 1/2, so a = S W / 2.
+  stereo.separation = 2.0 * separation_px / width;
+  return stereo.parallax(width, EyeDirection::centre_to_right);
+}
+
+// --- Frames, cached: ray casting a 4K view takes seconds, so each size is rendered once --------
+
+struct Source {
+  Image color;
+  Image depth;  // standard encoding
+  SourceView view() const {
+    SourceView v;
+    v.color = color.color();
+    v.depth = depth.plane(0);
+    return v;
+  }
+};
+
+struct Outputs {
+  Image color;
+  Image depth;
+  std::vector<std::uint8_t> status;
+  int width = 0;
+  int height = 0;
+
+  TargetView view() {
+    TargetView t;
+    t.color = color.mutable_color();
+    t.depth = depth.mutable_plane(0);
+    t.status = BytePlane{status.data(), width, height, width};
+    return t;  // source_x stays null: not requested
+  }
+};
+
+const rs::View& centre_view(Size size) {
+  static std::map<std::pair<int, int>, std::unique_ptr<rs::View>> cache;
+  std::unique_ptr<rs::View>& view = cache[{size.width, size.height}];
+  if (!view) {
+    view = std::make_unique<rs::View>();
+    const Status status = the_scene().render(the_scene().camera(size.width, size.height, rs::kCentreEye), view.get());
+    if (!status.ok()) {
+      std::fprintf(stderr, "reproject_bench: render %dx%d: %s\n", size.width, size.height, status.message());
+      std::exit(1);
+    }
+  }
+  return *view;
+}
+
+const Source& source_frame(Size size, Layout layout) {
+  static std::map<std::tuple<int, int, Layout>, std::unique_ptr<Source>> cache;
+  std::unique_ptr<Source>& frame = cache[{size.width, size.height, layout}];
+  if (frame) return *frame;
+
+  const rs::View& view = centre_view(size);
+  frame = std::make_unique<Source>();
+  frame->depth = rs::encode_depth(view.depth, the_decoder());
+  const ColorLayout color_layout = layout == Layout::interleaved_rgba ? ColorLayout::interleaved_rgba : ColorLayout::planar;
+  frame->color = Image(size.width, size.height, channels_of(layout), color_layout);
+  if (frame->depth.empty() || frame->color.empty()) {
+    std::fprintf(stderr, "reproject_bench: cannot allocate a %dx%d source\n", size.width, size.height);
+    std::exit(1);
+  }
+  const std::ptrdiff_t in_stride = view.color.stride();
+  const std::ptrdiff_t out_stride = frame->color.stride();
+  for (int y = 0; y < size.height; ++y) {
+    const float* r = view.color.plane_data(0) + y * in_stride;
+    const float* g = view.color.plane_data(1) + y * in_stride;
+    const float* b = view.color.plane_data(2) + y * in_stride;
+    const std::uint8_t* object = view.object.data() + static_cast<std::size_t>(y) * size.width;
+    for (int x = 0; x < size.width; ++x) {
+      // Alpha is coverage (1 where the ray met an object), so the fourth plane carries content.
+      const float rgba[4] = {r[x], g[x], b[x], object[x] != 255 ? 1.0f : 0.0f};
+      if (layout == Layout::grey) {
+        frame->color.plane_data(0)[y * out_stride + x] = 0.2126f * rgba[0] + 0.7152f * rgba[1] + 0.0722f * rgba[2];
+      } else if (layout == Layout::interleaved_rgba) {
+        std::memcpy(frame->color.plane_data(0) + y * out_stride + 4 * x, rgba, sizeof rgba);
+      } else {
+        for (int c = 0; c < 4; ++c) frame->color.plane_data(c)[y * out_stride + x] = rgba[c];
+      }
+    }
+  }
+  return *frame;
+}
+
+// Output buffers, shared by every benchmark of a size and layout (slot 1: the pair's second eye).
+// Image zero-fills, so the pages are touched before any timing.
+Outputs& output_frame(Size size, Layout layout, int slot) {
+  static std::map<std::tuple<int, int, Layout, int>, std::unique_ptr<Outputs>> cache;
+  std::unique_ptr<Outputs>& out = cache[{size.width, size.height, layout, slot}];
+  if (!out) {
+    out = std::make_unique<Outputs>();
+    const ColorLayout color_layout = layout == Layout::interleaved_rgba ? ColorLayout::interleaved_rgba : ColorLayout::planar;
+    out->color = Image(size.width, size.height, channels_of(layout), color_layout);
+    out->depth = Image(size.width, size.height, 1);
+    out->status.assign(static_cast<std::size_t>(size.width) * size.height, 0);
+    out->width = size.width;
+    out->height = size.height;
+    if (out->color.empty() || out->depth.empty()) {
+      std::fprintf(stderr, "reproject_bench: cannot allocate %dx%d outputs\n", size.width, size.height);
+      std::exit(1);
+    }
+  }
+  return *out;
+}
+
+// --- The reprojection benchmarks ---------------------------------------------------------------
+
+struct Case {
+  Method method = Method::exact;
+  Arch arch = Arch::scalar;
+  Size size = kFullHd;
+  int threads = 1;
+  Layout layout = Layout::planar_rgba;
+  std::optional<int> separation_px;  // unset: the scene's recommended stereo
+  bool pair = false;
+  bool warmed = false;
+};
+
+// Registered cases live here so that each benchmark keeps a stable pointer to its own.
+std::deque<Case>& cases() {
+  static std::deque<Case> all;
+  return all;
+}
+
+void bm_reproject(benchmark::State& state, Case* c) {
+  const Source& source = source_frame(c->size, c->layout);
+  const SourceView source_view = source.view();
+  const ParallaxModel model =
+      c->separation_px ? model_for_separation(c->size.width, *c->separation_px) : default_model(c->size.width);
+  Options options;
+  options.method = c->method;
+  options.arch = c->arch;
+  options.threads = c->threads;
+  const TargetView eye = output_frame(c->size, c->layout, 0).view();
+  const TargetView other_eye = c->pair ? output_frame(c->size, c->layout, 1).view() : TargetView{};
+  const DepthDecoder& decoder = the_decoder();
+
+  auto call = [&] {
+    return c->pair ? reproject_pair(source_view, decoder, model, options, other_eye, eye)
+                   : reproject::reproject(source_view, decoder, model, options, eye);
+  };
+  // One untimed call per benchmark, the first time it runs: it reports a configuration error
+  // instead of timing it, and grows the per-thread scratch rows (and starts the pool, once
+  // threads exist) so the first timed iteration is not a cold start. Later repetitions skip it:
+  // the slowest cases (4K scalar scanline) should not pay it again.
+  if (!c->warmed) {
+    const Status status = call();
+    if (!status.ok()) {
+      state.SkipWithError(status.message());
+      return;
+    }
+    c->warmed = true;
+  }
+  for (auto _ : state) {
+    Status status = call();
+    benchmark::DoNotOptimize(status);
+  }
+  const std::int64_t pixels = static_cast<std::int64_t>(c->size.width) * c->size.height * (c->pair ? 2 : 1);
+  state.SetItemsProcessed(state.iterations() * pixels);
+  state.SetBytesProcessed(state.iterations() * pixels * bytes_per_pixel(c->layout));
+}
+
+std::string size_name(Size size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
+
+// Every benchmark is timed in wall-clock time (UseRealTime): the 2-thread ones must be, and the
+// 1-thread ones and the roofline use the same clock so that ratios between them mean something.
+// Google Benchmark appends "/real_time" to such names; the part before it is the name above.
+void finish(benchmark::internal::Benchmark* b) { b->UseRealTime()->Unit(benchmark::kMillisecond); }
+
+void register_case(const Case& c, const std::string& suffix) {
+  cases().push_back(c);
+  Case* stored = &cases().back();
+  const std::string name = std::string(c.pair ? "pair_" : "") + to_string(c.method) + "/" + to_string(c.arch) + "/" +
+                           size_name(c.size) + "/threads:" + std::to_string(c.threads) + suffix;
+  finish(benchmark::RegisterBenchmark(name.c_str(), bm_reproject, stored));
+}
+
+// --- The roofline --------------------------------------------------------------------------------
+
+// A persistent team for the roofline's 2-thread rows: the library splits rows over a persistent
+// pool, so the roofline must not pay a thread start per iteration either. The calling thread
+// runs the first band of rows; each helper one more band.
+class RowTeam {
+ public:
+  explicit RowTeam(int threads) {
+    for (int i = 1; i < threads; ++i) helpers_.emplace_back([this, i] { helper_loop(i); });
+    bands_ = threads;
+  }
+  ~RowTeam() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& t : helpers_) t.join();
+  }
+  RowTeam(const RowTeam&) = delete;
+  RowTeam& operator=(const RowTeam&) = delete;
+
+  // Calls rows(begin, end) for `bands_` contiguous bands covering [0, height); returns when all
+  // bands are done.
+  void run(int height, const std::function<void(int, int)>& rows) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      job_ = &rows;
+      height_ = height;
+      pending_ = static_cast<int>(helpers_.size());
+      ++generation_;
+    }
+    wake_.notify_all();
+    run_band(0, rows, height);
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [this] { return pending_ == 0; });
+  }
+
+ private:
+  void run_band(int band, const std::function<void(int, int)>& rows, int height) const {
+    const int begin = static_cast<int>(static_cast<std::int64_t>(height) * band / bands_);
+    const int end = static_cast<int>(static_cast<std::int64_t>(height) * (band + 1) / bands_);
+    rows(begin, end);
+  }
+  void helper_loop(int band) {
+    std::uint64_t seen = 0;
+    for (;;) {
+      const std::function<void(int, int)>* job;
+      int height;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+        if (stop_) return;
+        seen = generation_;
+        job = job_;
+        height = height_;
+      }
+      run_band(band, *job, height);
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        --pending_;
+      }
+      done_.notify_one();
+    }
+  }
+
+  std::vector<std::thread> helpers_;
+  int bands_ = 1;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable done_;
+  const std::function<void(int, int)>* job_ = nullptr;
+  int height_ = 0;
+  int pending_ = 0;
+  std::uint64_t generation_ = 0;
+  bool stop_ = false;
+};
+
+// Streams exactly the bytes a reprojected eye touches, on the same buffers: per row, copy depth
+// and each colour row to the outputs and write the status row. memcpy/memset are the simplest
+// loops that run at memory speed; everything a kernel does beyond this is its own cost.
+void bm_roofline(benchmark::State& state, Size size, int threads, Layout layout) {
+  const Source& source = source_frame(size, layout);
+  Outputs& out = output_frame(size, layout, 0);
+  const int planes = layout == Layout::interleaved_rgba ? 1 : channels_of(layout);
+  const std::size_t colour_row_bytes =
+      static_cast<std::size_t>(size.width) * (layout == Layout::interleaved_rgba ? 4 : 1) * sizeof(float);
+  const std::size_t depth_row_bytes = static_cast<std::size_t>(size.width) * sizeof(float);
+
+  const std::function<void(int, int)> rows = [&](int begin, int end) {
+    for (int y = begin; y < end; ++y) {
+      for (int c = 0; c < planes; ++c) {
+        std::memcpy(out.color.plane_data(c) + y * out.color.stride(), source.color.plane_data(c) + y * source.color.stride(),
+                    colour_row_bytes);
+      }
+      std::memcpy(out.depth.plane_data(0) + y * out.depth.stride(), source.depth.plane_data(0) + y * source.depth.stride(),
+                  depth_row_bytes);
+      std::memset(out.status.data() + static_cast<std::size_t>(y) * size.width, 0, static_cast<std::size_t>(size.width));
+    }
+  };
+  RowTeam team(threads);
+  team.run(size.height, rows);  // untimed: wakes the helper once
+  for (auto _ : state) {
+    team.run(size.height, rows);
+    benchmark::ClobberMemory();
+  }
+  const std::int64_t pixels = static_cast<std::int64_t>(size.width) * size.height;
+  state.SetItemsProcessed(state.iterations() * pixels);
+  state.SetBytesProcessed(state.iterations() * pixels * bytes_per_pixel(layout));
+}
+
+void register_roofline(Size size, int threads, Layout layout, const std::string& suffix) {
+  const std::string name = "roofline/" + size_name(size) + "/threads:" + std::to_string(threads) + suffix;
+  finish(benchmark::RegisterBenchmark(name.c_str(), bm_roofline, size, threads, layout));
+}
+
+void register_all() {
+  std::vector<Arch> archs;
+  for (Arch arch : kArchs)
+    if (arch_supported(arch)) archs.push_back(arch);
+
+  // Size scaling, planar RGBA, with the roofline of each size next to it.
+  for (Size size : kSizes) {
+    for (int threads : kThreadCounts) {
+      register_roofline(size, threads, Layout::planar_rgba, "");
+      for (Method method : kMethods) {
+        for (Arch arch : archs) {
+          Case c;
+          c.method = method;
+          c.arch = arch;
+          c.size = size;
+          c.threads = threads;
+          register_case(c, "");
+        }
+      }
+    }
+  }
+  // Separation sweep at 1080p.
+  for (int separation : kSeparations) {
+    for (int threads : kThreadCounts) {
+      for (Method method : kMethods) {
+        for (Arch arch : archs) {
+          Case c;
+          c.method = method;
+          c.arch = arch;
+          c.threads = threads;
+          c.separation_px = separation;
+          register_case(c, "/sep:" + std::to_string(separation));
+        }
+      }
+    }
+  }
+  // Interleaved RGBA and centre -> both eyes, 1080p.
+  for (int threads : kThreadCounts) {
+    for (Method method : kMethods) {
+      for (Arch arch : archs) {
+        Case c;
+        c.method = method;
+        c.arch = arch;
+        c.threads = threads;
+        c.layout = Layout::interleaved_rgba;
+        register_case(c, "/rgba");
+      }
+    }
+  }
+  for (int threads : kThreadCounts) {
+    for (Method method : kMethods) {
+      for (Arch arch : archs) {
+        Case c;
+        c.method = method;
+        c.arch = arch;
+        c.threads = threads;
+        c.pair = true;
+        register_case(c, "");
+      }
+    }
+  }
+  // In cache: one colour plane at 512x512, march16 on every arch.
+  register_roofline(kInCache, 1, Layout::grey, "/grey");
+  for (Arch arch : archs) {
+    Case c;
+    c.method = Method::march16;
+    c.arch = arch;
+    c.size = kInCache;
+    c.layout = Layout::grey;
+    register_case(c, "/grey");
+  }
+}
+
+void add_context() {
+  std::string supported;
+  for (Arch arch : kArchs) {
+    if (!arch_supported(arch)) continue;
+    if (!supported.empty()) supported += ",";
+    supported += to_string(arch);
+  }
+  const StereoCamera stereo = the_scene().recommended_stereo();
+  char text[160];
+  benchmark::AddCustomContext("reproject_archs", supported);
+  benchmark::AddCustomContext("reproject_selected_arch", to_string(selected_arch()));
+  std::snprintf(text, sizeof text, "%s, standard depth encoding, near %g, far %g", the_scene().name(),
+                the_scene().near_plane(), the_scene().far_plane());
+  benchmark::AddCustomContext("reproject_scene", text);
+  std::snprintf(text, sizeof text, "separation %g, convergence %.6g; 1080p centre->right a = %.4g px, b = %.6g px",
+                stereo.separation, stereo.convergence, static_cast<double>(default_model(1920).a),
+                static_cast<double>(default_model(1920).b));
+  benchmark::AddCustomContext("reproject_stereo", text);
+  std::snprintf(text, sizeof text, "%lld bytes/px (RGBA), %lld bytes/px (grey)",
+                static_cast<long long>(bytes_per_pixel(Layout::planar_rgba)),
+                static_cast<long long>(bytes_per_pixel(Layout::grey)));
+  benchmark::AddCustomContext("reproject_bytes_per_pixel", text);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  add_context();
+  register_all();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,187 @@
+#!/usr/bin/env python3
+"""Writes the seed corpora of the file-reader harnesses (fuzz/corpus/{png,pfm,exr}/): small valid
+files of every form each reader handles, and a few broken ones next to them, so that a fuzzing
+run starts from deep inside each format instead of having to discover its signature and header.
+Standard library only; deterministic (re-running it rewrites the same bytes).
+
+    python3 fuzz/make_seeds.py            # from the repository root
+"""
+import os
+import struct
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def write(harness, name, data):
+    directory = os.path.join(HERE, "corpus", harness)
+    os.makedirs(directory, exist_ok=True)
+    with open(os.path.join(directory, name), "wb") as f:
+        f.write(data)
+
+
+# ---- PNG -------------------------------------------------------------------------------------
+
+def chunk(kind, body):
+    return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
+
+
+def png(width, height, bit_depth, color_type, rows, interlace=0, extra=b""):
+    """rows: the filtered scanline bytes (each starting with its filter byte), already laid out."""
+    header = struct.pack(">IIBBBBB", width, height, bit_depth, color_type, 0, 0, interlace)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + extra + chunk(b"IDAT", zlib.compress(rows)) +
+            chunk(b"IEND", b""))
+
+
+def raw_rows(width, height, bytes_per_pixel, value):
+    out = b""
+    for y in range(height):
+        out += b"\x00" + bytes(value(x, y, i) & 0xFF for x in range(width) for i in range(bytes_per_pixel))
+    return out
+
+
+def png_seeds():
+    write("png", "grey8_3x2.png", png(3, 2, 8, 0, raw_rows(3, 2, 1, lambda x, y, i: 40 * x + 90 * y)))
+    write("png", "grey16_2x2.png", png(2, 2, 16, 0, raw_rows(2, 2, 2, lambda x, y, i: 0x12 * (x + 1) + 0x40 * y + i)))
+    write("png", "grey1_9x2.png", png(9, 2, 1, 0, b"\x00\xa5\x80\x00\x5a\x00"))
+    write("png", "grey_alpha8_2x2.png", png(2, 2, 8, 4, raw_rows(2, 2, 2, lambda x, y, i: 100 * i + x + 7 * y)))
+    write("png", "rgb8_3x3.png", png(3, 3, 8, 2, raw_rows(3, 3, 3, lambda x, y, i: 30 * x + 50 * y + 80 * i)))
+    write("png", "rgba16_2x1.png", png(2, 1, 16, 6, raw_rows(2, 1, 8, lambda x, y, i: 31 * i + x)))
+    palette = chunk(b"PLTE", bytes([255, 0, 0, 0, 255, 0, 0, 0, 255]))
+    trns = chunk(b"tRNS", bytes([255, 128]))
+    write("png", "palette_trns_3x2.png",
+          png(3, 2, 8, 3, raw_rows(3, 2, 1, lambda x, y, i: (x + y) % 3), extra=palette + trns))
+    write("png", "rgb_colour_key_2x2.png",
+          png(2, 2, 8, 2, raw_rows(2, 2, 3, lambda x, y, i: 255 * ((x + y) % 2)), extra=chunk(b"tRNS", b"\x00\xff\x00\xff\x00\xff")))
+    # Adam7-interlaced 3x3 grey.
+    write("png", "interlaced_grey8_3x3.png", png(3, 3, 8, 0, adam7_rows(3, 3), interlace=1))
+    # Broken: a CRC error, and a file cut in its IDAT.
+    good = png(3, 3, 8, 2, raw_rows(3, 3, 3, lambda x, y, i: x * y * i))
+    write("png", "bad_crc.png", good[:-5] + bytes([good[-5] ^ 0xFF]) + good[-4:])
+    write("png", "truncated.png", good[: len(good) // 2 + 10])
+
+
+def adam7_rows(width, height):
+    starts = [(0, 0, 8, 8), (4, 0, 8, 8), (0, 4, 4, 8), (2, 0, 4, 4), (0, 2, 2, 4), (1, 0, 2, 2), (0, 1, 1, 2)]
+    out = b""
+    for x0, y0, dx, dy in starts:
+        columns = len(range(x0, width, dx))
+        for y in range(y0, height, dy):
+            if columns == 0:
+                continue
+            out += b"\x00" + bytes((17 * x + 29 * y) & 0xFF for x in range(x0, width, dx))
+    return out
+
+
+# ---- PFM -------------------------------------------------------------------------------------
+
+def pfm(kind, width, height, scale, values, order):
+    header = b"%s\n%d %d\n%s\n" % (kind, width, height, scale)
+    return header + b"".join(struct.pack(order + "f", v) for v in values)
+
+
+def pfm_seeds():
+    nan, inf = float("nan"), float("inf")
+    write("pfm", "grey_le_3x2.pfm", pfm(b"Pf", 3, 2, b"-1.0", [0.5, 1.0, 2.0, nan, -inf, 1e-40], "<"))
+    write("pfm", "grey_be_2x2.pfm", pfm(b"Pf", 2, 2, b"1.0", [1.0, 2.0, 3.0, 4.0], ">"))
+    write("pfm", "rgb_le_2x1.pfm", pfm(b"PF", 2, 1, b"-1", [0.1, 0.2, 0.3, 0.4, 0.5, 0.6], "<"))
+    write("pfm", "rgb_be_1x2.pfm", pfm(b"PF", 1, 2, b"2.5", [1, 2, 3, 4, 5, 6], ">"))
+    write("pfm", "crlf_header.pfm", b"Pf\r\n1 1\r\n-1.0\n" + struct.pack("<f", 7.0))
+    write("pfm", "truncated.pfm", pfm(b"Pf", 4, 4, b"-1.0", [1.0] * 5, "<"))
+    write("pfm", "bad_header.pfm", b"Pf\n-3 x\n-1.0\n")
+
+
+# ---- OpenEXR (single-part scanline, uncompressed or ZIP; written by hand) -------------------
+
+def attribute(name, kind, body):
+    return name + b"\x00" + kind + b"\x00" + struct.pack("<i", len(body)) + body
+
+
+def exr(width, height, channels, compression=0, tiled=False):
+    """channels: [(name, pixel_type)] sorted by name; pixel_type 1 half, 2 float. Pixel values are
+    small ramps. compression 0: none, 2: ZIPS (one line per block)."""
+    channel_list = b"".join(name + b"\x00" + struct.pack("<iB3xii", ptype, 0, 1, 1) for name, ptype in channels) + b"\x00"
+    box = struct.pack("<iiii", 0, 0, width - 1, height - 1)
+    header = (struct.pack("<ii", 20000630, 2) +
+              attribute(b"channels", b"chlist", channel_list) +
+              attribute(b"compression", b"compression", bytes([compression])) +
+              attribute(b"dataWindow", b"box2i", box) +
+              attribute(b"displayWindow", b"box2i", box) +
+              attribute(b"lineOrder", b"lineOrder", b"\x00") +
+              attribute(b"pixelAspectRatio", b"float", struct.pack("<f", 1.0)) +
+              attribute(b"screenWindowCenter", b"v2f", struct.pack("<ff", 0.0, 0.0)) +
+              attribute(b"screenWindowWidth", b"float", struct.pack("<f", 1.0)) + b"\x00")
+    blocks = []
+    for y in range(height):
+        line = b""
+        for c, (name, ptype) in enumerate(channels):
+            for x in range(width):
+                value = 0.25 * (x + 1) + 0.5 * y + c
+                line += struct.pack("<e", value) if ptype == 1 else struct.pack("<f", value)
+        if compression == 2:
+            packed = zip_predict(line)
+            if len(packed) < len(line):  # else the block is stored as it is (the format's rule)
+                line = packed
+        blocks.append(struct.pack("<ii", y, len(line)) + line)
+    offset = len(header) + 8 * height
+    table = b""
+    for block in blocks:
+        table += struct.pack("<Q", offset)
+        offset += len(block)
+    return header + table + b"".join(blocks)
+
+
+def zip_predict(data):
+    """OpenEXR's ZIP: bytes split into even/odd halves, delta-coded, then zlib."""
+    half = (len(data) + 1) // 2
+    reordered = bytearray(len(data))
+    reordered[:half] = data[0::2]
+    reordered[half:] = data[1::2]
+    out = bytearray(len(data))
+    previous = reordered[0] if data else 0
+    if data:
+        out[0] = reordered[0]
+    for i in range(1, len(reordered)):
+        out[i] = (reordered[i] - previous + 128 + 256) & 0xFF
+        previous = reordered[i]
+    return zlib.compress(bytes(out))
+
+
+def exr_seeds():
+    write("exr", "rgb_half_2x2.exr", exr(2, 2, [(b"B", 1), (b"G", 1), (b"R", 1)]))
+    write("exr", "rgbaz_float_3x2.exr", exr(3, 2, [(b"A", 2), (b"B", 2), (b"G", 2), (b"R", 2), (b"Z", 2)]))
+    write("exr", "z_only_2x3.exr", exr(2, 3, [(b"Z", 2)]))
+    write("exr", "blender_layers_2x2.exr",
+          exr(2, 2, [(b"ViewLayer.Combined.B", 1), (b"ViewLayer.Combined.G", 1), (b"ViewLayer.Combined.R", 1),
+                     (b"ViewLayer.Depth.Z", 2)]))
+    write("exr", "grey_y_zips_40x2.exr", exr(40, 2, [(b"Y", 1)], compression=2))
+    write("exr", "depth_named_2x1.exr", exr(2, 1, [(b"depth", 2)]))
+    good = exr(2, 2, [(b"B", 1), (b"G", 1), (b"R", 1)])
+    write("exr", "truncated.exr", good[: len(good) - 6])
+
+
+# ---- CLI arguments (NUL-separated, after "reproject warp") --------------------------------------
+
+def cli_seeds():
+    lists = {
+        "standard_secant": ["--color", "c.png", "--depth", "d.pfm", "--encoding", "standard", "--near", "0.1",
+                            "--far", "100", "--convergence", "2", "--method", "secant", "--threads", "2",
+                            "--arch", "avx2", "--out", "r.png"],
+        "equals_form": ["--encoding=reversed_infinite", "--near=0.5", "--convergence=3.5", "--separation=0.05",
+                        "--direction=right-to-left", "--guard=4", "--fill=foreground", "--edge=none"],
+        "disparity": ["--disparity", "--direction", "left-to-right", "--method", "march16", "--march-steps", "32",
+                      "--max-negative-parallax", "12.5", "--hole-threshold", "0.5"],
+        "linear_single": ["--encoding", "linear", "--convergence", "1e3", "--method", "single", "--probe-parallax",
+                          "-7", "--secant-max-steps", "4096", "--methods", "exact,secant,scanline"],
+        "errors": ["--near", "x", "--near", "1", "--bogus", "--quiet=1", "loose", "--far"],
+        "help": ["--help"],
+    }
+    for name, words in lists.items():
+        write("cli", name, b"\x00".join(w.encode() for w in words))
+
+
+if __name__ == "__main__":
+    cli_seeds()
+    png_seeds()
+    pfm_seeds()
+    exr_seeds()

@@ -1,0 +1,108 @@
+// `exact` (DESIGN §5): the forward sweep. Source segments are walked in occlusion-compatible
+// order (j upwards when b < 0, downwards when b > 0) and each non-fold segment is rasterised onto
+// the target pixels it covers; later writes are nearer and overwrite earlier ones. The two edge
+// extensions (outside) are painted first and last. O(width) per row.
+// The sweep lives in this header (in an anonymous namespace) so that the baseline scalar table
+// and each instruction set's table compile their own copy with their own flags.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "kernels/frame.hpp"
+
+namespace reproject {
+namespace detail {
+namespace {
+
+// The first target column t' that a surface point at integer column j with parallax p reaches
+// or passes: t' >= j + p when b < 0, t' > j + p when b > 0 (segments cover [q(j), q(j+1)) and
+// (q(j), q(j+1)] respectively). Decided on the integer t' - j against p, so it is exact and agrees
+// bit for bit with the gather's sign test (t' - j) - p at a column.
+inline int first_target_reached(const Frame& f, int column, float p) {
+  return column + static_cast<int>(f.s < 0.0f ? std::ceil(p) : std::floor(p) + 1.0f);
+}
+
+template <class Fma>
+inline void sweep_row(const Frame& f, RowScratch& scratch) {
+  const float* parallax = scratch.parallax;
+  float* xs = scratch.source_x.data();
+  const int last = f.source_width - 1;
+  const float guard = static_cast<float>(f.guard);
+
+  // With a near limit tighter than the data, parts of the surface are nearer than any ray may
+  // start; those are not painted, and rays that start behind the surface are clipped afterwards.
+  bool may_clip = false;
+  if (!f.near_from_frame) {  // the default near end is the frame's nearest: nothing is clipped
+    float nearest_key = f.key_far;
+    for (int j = 0; j <= last; ++j) nearest_key = std::max(nearest_key, f.s * parallax[j]);
+    may_clip = nearest_key > f.key_near;
+  }
+  if (may_clip) {
+    for (int t = 0; t < f.target_width; ++t) xs[t] = static_cast<float>(t) + guard - f.p_far;
+  }
+
+  // Where column j's surface point first reaches, as a target index clamped to [0, Wt]: the
+  // span a segment or an extension paints is then [reach(start), reach(end)), already clipped to
+  // the row (clamping is monotone), and each column's reach is computed once.
+  const int width = f.target_width;
+  auto reach = [&](int column) {
+    return std::clamp(first_target_reached(f, column, parallax[column]) - f.guard, 0, width);
+  };
+  // An edge extension: beyond the row the surface keeps the edge column's parallax.
+  auto paint_extension = [&](int column, int begin, int end) {
+    const float p = parallax[column];
+    if (may_clip && f.s * p > f.key_near) return;
+    for (int t = begin; t < end; ++t) xs[t] = static_cast<float>(t) + guard - p;
+  };
+  // Segment [j, j+1] onto targets [begin, end); empty for a fold-over (a back face).
+  auto paint_segment = [&](int j, int begin, int end) {
+    const float p0 = parallax[j];
+    const float p1 = parallax[j + 1];
+    // frac = (t' - q0) / (q1 - q0) with q = column + p, arranged so that (t' - j) and (p1 - p0)
+    // are exact: one rounding on each side of the division. Clamped, for the degenerate case
+    // where the length rounds to 0.
+    const float length = 1.0f + (p1 - p0);
+    for (int t = begin; t < end; ++t) {
+      const float frac = std::clamp((static_cast<float>(t + f.guard - j) - p0) / length, 0.0f, 1.0f);
+      if (may_clip && f.s * madd<Fma>(frac, p1 - p0, p0) > f.key_near) continue;
+      xs[t] = static_cast<float>(j) + frac;
+    }
+  };
+
+  if (f.s < 0.0f) {
+    int begin = reach(0);
+    paint_extension(0, 0, begin);
+    for (int j = 0; j < last; ++j) {
+      const int end = reach(j + 1);
+      paint_segment(j, begin, end);
+      begin = end;
+    }
+    paint_extension(last, begin, width);
+  } else {
+    int end = reach(last);
+    paint_extension(last, end, width);
+    for (int j = last - 1; j >= 0; --j) {
+      const int begin = reach(j);
+      paint_segment(j, begin, end);
+      end = begin;
+    }
+    paint_extension(0, 0, end);
+  }
+
+  for (int t = 0; t < f.target_width; ++t) scratch.clipped[t] = 0;
+  if (may_clip) {
+    for (int t = 0; t < f.target_width; ++t) {
+      const float target = static_cast<float>(t) + guard;
+      const float x_near = target - f.p_near;
+      if (f.s * ((target - x_near) - parallax_at<Fma>(parallax, x_near)) < 0.0f) {
+        xs[t] = x_near;
+        scratch.clipped[t] = 1;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace detail
+}  // namespace reproject

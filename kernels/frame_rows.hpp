@@ -1,0 +1,39 @@
+// Internal: a call's plan and rows taken apart so that the rows can be split over threads
+// (Options::threads, ParallelFor). make_frame() and run_rows() of frame.hpp are these pieces run
+// in sequence on the calling thread. Not installed.
+//
+// Kept apart from frame.hpp, which the kernels include, so that the threading changes touch no
+// kernel translation unit; folding these declarations into frame.hpp later changes nothing.
+#pragma once
+
+#include "kernels/frame.hpp"
+
+namespace reproject {
+namespace detail {
+
+// The plan without the near limit when Options::max_negative_parallax is unset: then the caller
+// reduces nearest_key_in_rows() over every row (with std::max, starting from key_far, rows in
+// order) and passes the result to set_near_key(). With the option set the plan is complete.
+Frame plan_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
+                 const Options& options, const TargetView& target);
+
+// The fields that follow from the near end of the rays: p_near, the march step, the padding.
+void set_near_key(Frame& f, float key_near);
+
+// max(key_far, s * p) over the decoded parallax of rows [row_begin, row_end), in row order.
+// Taken band by band and reduced in band order, this is bit for bit the whole frame's value
+// (std::max keeps the first of equal values, so even the sign of a zero does not depend on
+// where the bands split).
+float nearest_key_in_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin,
+                          int row_end);
+
+// Sizes `scratch` for any frame with f's widths and guard, whatever its near limit (the padding
+// is sized for the widest the plan allows), so that later calls with the same sizes never
+// allocate, whatever their depth. Valid before set_near_key().
+void prepare_scratch(const Frame& f, RowScratch& scratch);
+
+// run_rows() with the caller's scratch (prepared for f).
+void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin, int row_end);
+
+}  // namespace detail
+}  // namespace reproject

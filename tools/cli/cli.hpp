@@ -1,0 +1,197 @@
+// The `reproject` command-line tool: shared pieces of its subcommands (docs/CLI.md is the
+// user's reference; this header is the code's).
+//
+// Errors. Every subcommand reports a failure by throwing Failure; main() prints its message as one
+// line on stderr ("reproject: error: ...") and exits with its code. Exceptions stay inside the
+// tool: the library never throws, and nothing here calls the library from a destructor.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "imageio/imageio.hpp"
+#include "reproject/reproject.hpp"
+
+namespace reproject::cli {
+
+// Exit codes (docs/CLI.md).
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitRuntime = 1,  // the library refused the call, or allocation failed
+  kExitUsage = 2,    // unknown subcommand or flag, missing or bad value, conflicting flags
+  kExitInput = 3,    // an input file is missing, unreadable, of the wrong format, or of the wrong size
+  kExitOutput = 4,   // an output file or directory cannot be written
+};
+
+struct Failure {
+  int code;
+  std::string message;
+};
+[[noreturn]] void fail(int code, const std::string& message);
+
+// ---- Flags ----------------------------------------------------------------------------------
+
+// One subcommand's flags: "--name value", "--name=value", or a bare "--name" for switches.
+// Parsing checks the names (unknown: usage error), that values are present and that no flag is
+// given twice; the typed getters check the values.
+class Flags {
+ public:
+  struct Spec {
+    const char* name;     // without the leading "--"
+    const char* metavar;  // nullptr: a switch that takes no value
+    const char* help;
+  };
+
+  Flags(const char* command, std::vector<Spec> specs) : command_(command), specs_(std::move(specs)) {}
+  // Parses argv[first..argc). "--help" / "-h" sets help().
+  void parse(int argc, char** argv, int first);
+  bool help() const noexcept { return help_; }
+  // The usage text: a synopsis line followed by one line per flag.
+  std::string usage(const char* synopsis) const;
+
+  bool has(const char* name) const;
+  const char* command() const noexcept { return command_; }
+
+  std::string text(const char* name, const std::string& fallback = "") const;
+  int integer(const char* name, int fallback, int min, int max) const;
+  double number(const char* name, double fallback) const;  // any finite value
+  // A finite value in [min, max] (min_open: excluding min).
+  double number(const char* name, double fallback, double min, double max, bool min_open = false) const;
+  // Comma-separated list, empty items refused.
+  std::vector<std::string> list(const char* name, const std::string& fallback) const;
+  // A usage error about this flag's value: "--name: <what>".
+  [[noreturn]] void bad_value(const char* name, const std::string& what) const;
+  // Refuses the presence of `name` (usage error: "--name cannot be used with <why>").
+  void forbid(const char* name, const std::string& why) const;
+  // Requires `name`: "<command> needs --name <metavar>".
+  void require(const char* name) const;
+
+ private:
+  const Spec* find(const std::string& name) const;
+  const char* command_;
+  std::vector<Spec> specs_;
+  std::vector<std::pair<std::string, std::string>> values_;
+  bool help_ = false;
+};
+
+// ---- Files ----------------------------------------------------------------------------------
+
+// Colour as the tool carries it: normalised to 0..1 (PNG integers divided by 2^bits - 1; PFM and
+// EXR floats as stored), so that PSNR and pictures mean the same whatever the file held.
+struct ColorImage {
+  Image image;
+  int bit_depth = 8;  // of the file it came from: 8, 16 (PNG, or half EXR) or 32 (float)
+  io::FileFormat format = io::FileFormat::png;
+};
+
+// Readers: any failure is a Failure with kExitInput and imageio's message.
+ColorImage read_color(const std::string& path);
+// A single-channel depth or disparity file as stored (PNG integers, PFM/EXR floats).
+io::LoadedImage read_depth_file(const std::string& path);
+// Checks, before any work, that `path`'s extension names a format the tool writes (usage error).
+void check_output_path(const char* flag, const std::string& path);
+// Checks, before any work, that the given output flags name different files (usage error).
+void check_distinct_outputs(const Flags& flags, const std::vector<const char*>& names);
+
+// Every file one command writes, written all or nothing: each file goes to a temporary name next
+// to its destination; commit() renames them all into place once every one is written. If the
+// command fails first, the destructor removes the temporary files, and the directories it created
+// when they are left empty. So a failed command leaves neither partial nor partly-updated output.
+class OutputSet {
+ public:
+  OutputSet() = default;
+  ~OutputSet();
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+
+  // Creates `dir` (and its parents) if missing; kExitOutput on failure.
+  void make_directory(const std::string& dir);
+  // Colour normalised 0..1: PNG 8 or 16 bits (scaled by 2^bits - 1), PFM/EXR floats. PFM keeps
+  // 1 or 3 channels (grey + alpha and RGBA lose alpha).
+  void color(const std::string& path, const ColorView& color, int png_bits = 8);
+  // Values as they are (depth, source x): PNG 16-bit integers, PFM/EXR floats.
+  void plane(const std::string& path, const FloatPlane& plane, int png_bits = 16);
+  // A picture of 0..255 floats (stereo_views) as an 8-bit PNG, values as they are.
+  void picture(const std::string& path, const Image& picture);
+  // Bytes as an 8-bit grey PNG (status: 0 hit, 1 hole, 2 outside, 3 clipped; masks).
+  void bytes(const std::string& path, const std::uint8_t* data, int width, int height);
+  // Any text (JSON).
+  void text(const std::string& path, const std::string& content);
+  void commit();
+
+ private:
+  std::string stage(const std::string& path);
+  void check(const io::IoStatus& status, const std::string& path);
+  struct Staged {
+    std::string temporary, destination;
+  };
+  std::vector<Staged> staged_;
+  std::vector<std::string> created_dirs_;
+  bool committed_ = false;
+};
+
+// ---- Source frames, depth decoding and the parallax model --------------------------------------
+
+// Flags every reprojecting subcommand shares (appended to its own).
+std::vector<Flags::Spec> source_flags();  // --color --depth --encoding --near --far --depth-scale --unknown-depth
+std::vector<Flags::Spec> camera_flags(bool with_direction, bool with_disparity);
+std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool with_threads_arch);
+
+struct Frame {
+  ColorImage color;
+  Image depth;             // stored values x depth scale, unknown values filled
+  int depth_bits = 32;     // of the depth file: 8/16 (PNG integers), 16/32 (EXR half/float), 32 (PFM)
+  double depth_scale = 1;  // K: depth = file value x K
+  long unknown_filled = 0;
+};
+// Reads --color and --depth, checks their sizes, applies --depth-scale and --unknown-depth.
+Frame load_frame(const Flags& flags, const DepthDecoder& decoder);
+// Replaces every pixel with `unknown` set by the farther (smaller inverse depth) of its nearest
+// known neighbours in the row; a row with no known pixel gets the farthest value the encoding has
+// (the far plane; infinity for linear and the infinite encodings; 0 for disparity). Returns the
+// number of pixels filled.
+long fill_unknown_depth(Image* depth, const std::vector<std::uint8_t>& unknown, const DepthDecoder& decoder);
+
+DepthDecoder decoder_from_flags(const Flags& flags);
+// The model for a source `width` target pixels wide (guard band excluded), and the direction.
+ParallaxModel model_from_flags(const Flags& flags, int width, EyeDirection* direction);
+// Options from the option flags; --threads and --arch only when `read_threads_arch`.
+Options options_from_flags(const Flags& flags, bool read_threads_arch);
+// --arch, checked against this CPU; selected_arch() when absent.
+Arch arch_from_flags(const Flags& flags);
+// kExitRuntime with the library's message.
+void check_status(const Status& status, const std::string& what);
+
+// ---- Pictures ---------------------------------------------------------------------------------
+
+// Pictures follow imageio/stereo_views.hpp: 0..255 floats, written as 8-bit PNG as they are
+// (OutputSet::picture). These helpers add what the tool needs on top of stereo_views.
+
+// A copy of normalised colour (0..1) scaled to 0..255, for stereo_views.
+Image to_picture_scale(const ColorView& color);
+// Fails with kExitRuntime if `status` is not ok (stereo_views only fails on bad arguments or
+// memory).
+void check_picture(const io::IoStatus& status, const char* what);
+// Paints the pixels whose mask byte is 0 in a dim blue, so that a heat map shows which pixels
+// were not measured (not visible in both views).
+void mark_unmeasured(Image* picture, const std::uint8_t* mask);
+// The region [x0, x0 + w) x [y0, y0 + h) of `image`, clamped to it; 3 channels (grey repeated).
+Image crop(const Image& image, int x0, int y0, int w, int h);
+// Box-filter downscale by an integer factor (>= 1).
+Image downscale(const Image& image, int factor);
+// Tiles in a grid of `columns`, each cell as large as the largest tile, `gap` pixels apart on a
+// dark background; 3 channels.
+Image mosaic(const std::vector<const Image*>& tiles, int columns, int gap);
+// Writes `text` (letters, digits, space and . , : % / - + = ~ ( ) |) at (x, y) in white on a dark
+// box, `scale` image pixels per font pixel; 3-channel pictures.
+void label(Image* image, int x, int y, const std::string& text, int scale);
+
+// ---- Subcommands ------------------------------------------------------------------------------
+
+int run_warp(int argc, char** argv);
+int run_pair(int argc, char** argv);
+int run_compare(int argc, char** argv);
+int run_scene(int argc, char** argv);
+
+}  // namespace reproject::cli

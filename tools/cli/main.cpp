@@ -1,0 +1,63 @@
+// reproject: the command-line front end of the library (docs/CLI.md).
+//
+//   reproject warp     colour + depth files -> one target eye
+//   reproject pair     a centre view -> both eyes, as files and stereo pictures
+//   reproject compare  every method on a frame or a built-in scene: speed and quality table
+//   reproject scene    a built-in scene's views (colour, depth, true eyes) as files
+#include <cstdio>
+#include <cstring>
+#include <new>
+#include <string>
+
+#include "cli.hpp"
+
+namespace {
+
+const char kUsage[] =
+    "usage: reproject <command> [flags]    (reproject <command> --help for its flags)\n"
+    "\n"
+    "commands:\n"
+    "  warp     synthesise one eye from a colour + depth (or disparity) image\n"
+    "  pair     synthesise both eyes from a centre view; separate files and/or stereo pictures\n"
+    "  compare  run every method on a frame or a built-in scene: speed, agreement with exact,\n"
+    "           error against the true other eye\n"
+    "  scene    write a built-in scene's views (colour, depth, true eyes) to files\n"
+    "\n"
+    "exit codes: 0 ok, 1 runtime error, 2 usage error, 3 input file error, 4 output file error\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace reproject::cli;
+  if (argc < 2) {
+    std::fputs(kUsage, stderr);
+    return kExitUsage;
+  }
+  const std::string command = argv[1];
+  try {
+    if (command == "warp") return run_warp(argc, argv);
+    if (command == "pair") return run_pair(argc, argv);
+    if (command == "compare") return run_compare(argc, argv);
+    if (command == "scene") return run_scene(argc, argv);
+    if (command == "help" || command == "--help" || command == "-h") {
+      std::fputs(kUsage, stdout);
+      return kExitOk;
+    }
+    std::fprintf(stderr, "reproject: error: unknown command '%s' (warp, pair, compare, scene; see reproject --help)\n",
+                 command.c_str());
+    return kExitUsage;
+  } catch (const Failure& f) {
+    // Outputs are flushed first so that the error is the last line a user sees.
+    std::fflush(stdout);
+    std::fprintf(stderr, "reproject: error: %s\n", f.message.c_str());
+    return f.code;
+  } catch (const std::bad_alloc&) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "reproject: error: out of memory\n");
+    return kExitRuntime;
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "reproject: error: %s\n", e.what());
+    return kExitRuntime;
+  }
+}
