@@ -3,6 +3,7 @@
 #include "kernels/frame.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "kernels/frame_rows.hpp"
 #include "kernels/secant.hpp"
@@ -82,13 +83,20 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
     int j1;
     float frac;
     bool write = true;
+    bool black = false;
     if (scratch.clipped[t] || x < 0.0f || x > last_column) {
       status = scratch.clipped[t] ? PixelStatus::clipped : PixelStatus::outside;
-      const float xc = clampf(x, 0.0f, last_column);
+      float xs = x;
+      if (status == PixelStatus::outside) {
+        write = f.edge != EdgeMode::none;
+        black = f.edge == EdgeMode::black;
+        // Reflected about the edge pixel's centre (then clamped, if still off the row).
+        if (f.edge == EdgeMode::mirror) xs = x < 0.0f ? -x : (last_column - x) + last_column;
+      }
+      const float xc = clampf(xs, 0.0f, last_column);
       j0 = static_cast<int>(std::floor(xc));
       j1 = std::min(j0 + 1, last);
       frac = xc - static_cast<float>(j0);
-      if (status == PixelStatus::outside) write = f.edge == EdgeMode::clamp;
     } else {
       j0 = static_cast<int>(std::floor(x));
       j1 = std::min(j0 + 1, last);
@@ -109,7 +117,7 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
     if (write) {
       for (int c = 0; c < io.channels; ++c) {
         const float c0 = io.source(c, j0);
-        io.target(c, t) = madd<Fma>(frac, io.source(c, j1) - c0, c0);
+        io.target(c, t) = black ? 0.0f : madd<Fma>(frac, io.source(c, j1) - c0, c0);
       }
       if (depth_out) depth_out[t] = interpolate_depth<Fma>(f, depth[j0], depth[j1], frac);
     }
@@ -190,8 +198,13 @@ Frame plan_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
   f.b = model.b;
   f.affine = decoder.is_affine();
   if (f.affine) {
-    f.decode_scale = static_cast<float>(static_cast<double>(model.b) * decoder.A());
-    f.decode_offset = static_cast<float>(static_cast<double>(model.a) + static_cast<double>(model.b) * decoder.B());
+    // Rounded to float once, and clamped to the float range: with an absurd model (convergence
+    // 1e37, say) b A overflows, and inf - inf would decode ordinary depths to NaN ("infinitely
+    // far"). Clamped, they decode to parallax far beyond L, which is what the model means.
+    const double largest = std::numeric_limits<float>::max();
+    f.decode_scale = static_cast<float>(std::clamp(static_cast<double>(model.b) * decoder.A(), -largest, largest));
+    f.decode_offset = static_cast<float>(
+        std::clamp(static_cast<double>(model.a) + static_cast<double>(model.b) * decoder.B(), -largest, largest));
   }
   f.s = model.b > 0.0f ? 1.0f : -1.0f;
   f.limit = static_cast<float>(f.source_width + 2);

@@ -461,14 +461,20 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
     float* x_out = f.target.source_x.data ? f.target.source_x.row(y) : nullptr;
     const F zero(0.0f), one(1.0f), last(static_cast<float>(f.source_width - 1)), tau(f.hole_threshold), s(f.s);
     const bool fill_foreground = f.hole_fill == HoleFill::foreground;
-    const bool edges_written = f.edge == EdgeMode::clamp;
+    const bool edges_written = f.edge != EdgeMode::none;
+    const bool mirror_edges = f.edge == EdgeMode::mirror;
+    const bool black_edges = f.edge == EdgeMode::black;
     const bool holes_written = f.hole_fill != HoleFill::none;
 
     for (; t + L <= f.target_width; t += L) {
       const F x = F::load_unaligned(scratch.source_x.data() + t);
       const B clipped = load_flags<Arch>(scratch.clipped.data() + t);
       const B outside = ((x < zero) | (x > last)) & !clipped;
-      const F xc = xsimd::min(xsimd::max(x, zero), last);  // == x in the row
+      F xs = x;
+      if (mirror_edges) {  // reflected about the edge pixel's centre (then clamped)
+        xs = xsimd::select(outside & (x < zero), -x, xsimd::select(outside & (x > last), (last - x) + last, x));
+      }
+      const F xc = xsimd::min(xsimd::max(xs, zero), last);  // == x in the row
       F j0 = xsimd::floor(xc);
       F j1 = xsimd::min(j0 + one, last);
       F frac = xc - j0;
@@ -498,7 +504,8 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
       for (int c = 0; c < channels; ++c) {
         F c0, c1;
         columns.fetch(source[c], c0, c1);
-        store(target[c] + t, vmadd<Fma>(frac, c1 - c0, c0));
+        const F value = vmadd<Fma>(frac, c1 - c0, c0);
+        store(target[c] + t, black_edges ? xsimd::select(outside, zero, value) : value);
       }
       if (depth_out) {
         F d0, d1;

@@ -80,7 +80,7 @@ Status check_options(const Options& options) {
     return Status(StatusCode::invalid_option, "method: unknown value %d", static_cast<int>(options.method));
   if (options.hole_fill != HoleFill::background && options.hole_fill != HoleFill::foreground && options.hole_fill != HoleFill::none)
     return Status(StatusCode::invalid_option, "hole_fill: unknown value %d", static_cast<int>(options.hole_fill));
-  if (options.edge != EdgeMode::clamp && options.edge != EdgeMode::none)
+  if (static_cast<unsigned>(options.edge) > static_cast<unsigned>(EdgeMode::mirror))
     return Status(StatusCode::invalid_option, "edge: unknown value %d", static_cast<int>(options.edge));
   if (!(options.hole_threshold >= 0.0f) || !std::isfinite(options.hole_threshold))
     return Status(StatusCode::invalid_option, "hole_threshold: %g is not a finite value >= 0", options.hole_threshold);

@@ -186,3 +186,58 @@ TEST(Exact, ScanlineEqualsExactWhenTheRangeCoversTheData) {
 
 }  // namespace
 }  // namespace reproject
+
+namespace reproject {
+namespace {
+
+// Edge modes on a fronto-parallel row shifted by 5.5 px: the first target pixels come from off
+// the row's left end. Colour = column index, so the output shows where each was read.
+TEST(EdgeModes, ClampBlackMirrorAndNone) {
+  const int width = 40;
+  std::vector<float> depth(width, 1.0f), color(width);
+  for (int x = 0; x < width; ++x) color[x] = static_cast<float>(x) + 100.0f;
+  SourceView source;
+  source.depth = FloatPlane{depth.data(), width, 1, width};
+  source.color = ColorView::planar({FloatPlane{color.data(), width, 1, width}});
+  const ParallaxModel model{5.5f, 0.0f};  // x* = t - 5.5 everywhere
+  for (Arch arch : {Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512}) {
+    if (!arch_supported(arch)) continue;
+    for (EdgeMode edge : {EdgeMode::clamp, EdgeMode::black, EdgeMode::mirror, EdgeMode::none}) {
+      std::vector<float> out(width, -1.0f), out_depth(width, -1.0f);
+      std::vector<std::uint8_t> status(width, 9);
+      TargetView target;
+      target.color = MutableColorView::planar({MutableFloatPlane{out.data(), width, 1, width}});
+      target.depth = MutableFloatPlane{out_depth.data(), width, 1, width};
+      target.status = BytePlane{status.data(), width, 1, width};
+      Options options;
+      options.edge = edge;
+      options.arch = arch;
+      for (Method method : {Method::exact, Method::single, Method::scanline}) {
+        options.method = method;
+        ASSERT_TRUE(reproject(source, DepthDecoder::linear(), model, options, target).ok());
+        for (int t = 0; t < width; ++t) {
+          const float x = static_cast<float>(t) - 5.5f;
+          SCOPED_TRACE(std::string(to_string(arch)) + " " + to_string(method) + " edge " +
+                       std::to_string(static_cast<int>(edge)) + " t " + std::to_string(t));
+          if (x >= 0.0f) {
+            EXPECT_EQ(status[t], 0);
+            EXPECT_NEAR(out[t], x + 100.0f, 1e-4);
+            continue;
+          }
+          EXPECT_EQ(status[t], static_cast<int>(PixelStatus::outside));
+          switch (edge) {
+            case EdgeMode::clamp: EXPECT_EQ(out[t], 100.0f); EXPECT_EQ(out_depth[t], 1.0f); break;
+            case EdgeMode::black: EXPECT_EQ(out[t], 0.0f); EXPECT_EQ(out_depth[t], 1.0f); break;
+            case EdgeMode::mirror: EXPECT_NEAR(out[t], -x + 100.0f, 1e-4); break;
+            case EdgeMode::none: EXPECT_EQ(out[t], -1.0f); EXPECT_EQ(out_depth[t], -1.0f); break;
+          }
+        }
+        std::fill(out.begin(), out.end(), -1.0f);
+        std::fill(out_depth.begin(), out_depth.end(), -1.0f);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace reproject

@@ -131,7 +131,7 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
           0.03 + 0.1 * (variant % 2), 4.0, std::max(tw, 40), c.mirrored ? EyeDirection::right_to_left : EyeDirection::left_to_right);
       for (int m = 0; m < kMethodCount; ++m) {
         for (HoleFill fill : {HoleFill::background, HoleFill::foreground, HoleFill::none}) {
-          for (EdgeMode edge : {EdgeMode::clamp, EdgeMode::none}) {
+          for (EdgeMode edge : {EdgeMode::clamp, EdgeMode::none, EdgeMode::black, EdgeMode::mirror}) {
             Options options;
             options.method = static_cast<Method>(m);
             options.guard = c.guard;

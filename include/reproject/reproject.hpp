@@ -54,8 +54,10 @@ enum class HoleFill : std::uint8_t {
 };
 
 enum class EdgeMode : std::uint8_t {
-  clamp,  // outside pixels take the edge pixel's colour and depth
-  none,   // outside pixels' colour and depth are not written (status only)
+  clamp,   // outside pixels take the edge pixel's colour and depth
+  none,    // outside pixels' colour and depth are not written (status only)
+  black,   // colour 0 in every channel; depth of the edge pixel
+  mirror,  // colour and depth read at x* reflected about the edge pixel (-x*, or 2 (Ws-1) - x*)
 };
 
 struct Options {

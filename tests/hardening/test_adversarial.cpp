@@ -753,9 +753,9 @@ TEST_P(Adversarial, EveryMethodArchLayoutAndPlacement) { run_case(GetParam()); }
 // gtest prints a parameter that fails: its name, not its bytes.
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
-// Fails today (see decode_coefficients_overflow_case): run it with --gtest_also_run_disabled_tests.
-// Enable it once the plan or the validation handles the overflow.
-TEST(HardeningKnownBugs, DISABLED_DecodeCoefficientsOverflowIsNotInfinitelyFar) {
+// b A and a + b B overflow float: the plan clamps them, so ordinary depths still decode to
+// parallax beyond L (every pixel outside), not to NaN ("infinitely far").
+TEST(HardeningOverflow, DecodeCoefficientsOverflowIsNotInfinitelyFar) {
   run_case(decode_coefficients_overflow_case());
 }
 

@@ -44,7 +44,7 @@ std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool wi
       {"max-negative-parallax", "PX", "largest crossed parallax searched, pixels >= 0 [the frame's own]"},
       {"hole-threshold", "PX", "a segment whose parallax jumps by more than PX is a wall (hole) [1]"},
       {"fill", "MODE", "hole fill: background, foreground or none [background]"},
-      {"edge", "MODE", "pixels from off the source row: clamp or none [clamp]"},
+      {"edge", "MODE", "pixels from off the source row: clamp, none, black or mirror [clamp]"},
   });
   if (with_guard) specs.push_back({"guard", "N", "guard band: source columns on each side beyond the target [0]"});
   specs.insert(specs.end(), {
@@ -161,7 +161,9 @@ Options options_from_flags(const Flags& flags, bool read_threads_arch) {
     const std::string v = flags.text("edge");
     if (v == "clamp") o.edge = EdgeMode::clamp;
     else if (v == "none") o.edge = EdgeMode::none;
-    else flags.bad_value("edge", "unknown edge mode '" + v + "' (clamp, none)");
+    else if (v == "black") o.edge = EdgeMode::black;
+    else if (v == "mirror") o.edge = EdgeMode::mirror;
+    else flags.bad_value("edge", "unknown edge mode '" + v + "' (clamp, none, black, mirror)");
   }
   o.guard = flags.integer("guard", 0, 0, 1 << 20);
   if (flags.has("probe-parallax")) o.probe_parallax = static_cast<float>(flags.number("probe-parallax", 0.0, -1e9, 1e9));
