@@ -147,6 +147,14 @@ struct Frame {
 };
 // Reads --color and --depth, checks their sizes, applies --depth-scale and --unknown-depth.
 Frame load_frame(const Flags& flags, const DepthDecoder& decoder);
+// The depth half of load_frame: --depth with --depth-scale and --unknown-depth applied.
+struct DepthFile {
+  Image depth;
+  int bits = 32;
+  double scale = 1;
+  long unknown_filled = 0;
+};
+DepthFile load_depth(const Flags& flags, const DepthDecoder& decoder);
 // Replaces every pixel with `unknown` set by the farther (smaller inverse depth) of its nearest
 // known neighbours in the row; a row with no known pixel gets the farthest value the encoding has
 // (the far plane; infinity for linear and the infinite encodings; 0 for disparity). Returns the
@@ -158,6 +166,11 @@ DepthDecoder decoder_from_flags(const Flags& flags);
 ParallaxModel model_from_flags(const Flags& flags, int width, EyeDirection* direction);
 // Options from the option flags; --threads and --arch only when `read_threads_arch`.
 Options options_from_flags(const Flags& flags, bool read_threads_arch);
+// --dilate-depth (0..4096) [0].
+int dilate_radius_from_flags(const Flags& flags);
+// The halo pre-filter (dilate_nearer_depth): each depth becomes the nearest one within `radius`
+// columns of its row; nothing when radius is 0. Runs on stored values after --depth-scale.
+void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius);
 // --arch, checked against this CPU; selected_arch() when absent.
 Arch arch_from_flags(const Flags& flags);
 // kExitRuntime with the library's message.
@@ -193,5 +206,6 @@ int run_warp(int argc, char** argv);
 int run_pair(int argc, char** argv);
 int run_compare(int argc, char** argv);
 int run_scene(int argc, char** argv);
+int run_budget(int argc, char** argv);
 
 }  // namespace reproject::cli

@@ -337,6 +337,8 @@ int run_compare(int argc, char** argv) {
   const int repeats = flags.integer("repeats", 5, 1, 1000);
   const Arch arch = arch_from_flags(flags);
   const Options base = options_from_flags(flags, false);
+  const int dilate = dilate_radius_from_flags(flags);
+  const std::string dilate_note = dilate > 0 ? ", dilated " + std::to_string(dilate) + " px (nearer; halo pre-filter)" : "";
   if (flags.has("json") && fs::is_directory(flags.text("json"))) flags.bad_value("json", "'" + flags.text("json") + "' is a directory");
   // Found out before the long run, not after it.
   if (flags.has("images") && fs::exists(flags.text("images")) && !fs::is_directory(flags.text("images"))) {
@@ -386,6 +388,7 @@ int run_compare(int argc, char** argv) {
     truth = std::move(dst_view.color);
     source_depth = rs::encode_depth(src_view.depth, decoder);
     if (source_depth.empty()) fail(kExitRuntime, "out of memory encoding the depth");
+    dilate_depth(&source_depth, decoder, dilate);
     float z_min = INFINITY, z_max = 0.0f;
     for (int y = 0; y < src_view.depth.height(); ++y) {
       const float* z = src_view.depth.plane_data() + y * src_view.depth.stride();
@@ -398,12 +401,13 @@ int run_compare(int argc, char** argv) {
     std::snprintf(text, sizeof text,
                   "scene %s: %dx%d, horizontal fov %.4g deg, %s; source, true eye and visibility ray-cast in %.0f ms\n"
                   "stereo: S = %s, c = %s; %s: a = %.4g px, b = %.4g px\n"
-                  "depth: %s, near %s, far %s; visible z %.4g .. %.4g, parallax %.2f .. %.2f px\n",
+                  "depth: %s, near %s, far %s%s; visible z %.4g .. %.4g, parallax %.2f .. %.2f px\n",
                   scene.name(), centre.width, centre.height,
                   centre.horizontal_fov * 180.0 / 3.14159265358979323846, rs::describe(scene.id()),
                   render_ms, exact_number(centre.stereo.separation).c_str(), exact_number(centre.stereo.convergence).c_str(),
                   to_string(direction), static_cast<double>(model.a), static_cast<double>(model.b), to_string(encoding),
-                  exact_number(scene.near_plane()).c_str(), exact_number(scene.far_plane()).c_str(), static_cast<double>(z_min),
+                  exact_number(scene.near_plane()).c_str(), exact_number(scene.far_plane()).c_str(), dilate_note.c_str(),
+                  static_cast<double>(z_min),
                   static_cast<double>(z_max), static_cast<double>(model.a) + model.b / z_min,
                   static_cast<double>(model.a) + model.b / z_max);
     description = text;
@@ -414,6 +418,7 @@ int run_compare(int argc, char** argv) {
     model = model_from_flags(flags, frame.depth.width(), &direction);
     source_color = std::move(frame.color.image);
     source_depth = std::move(frame.depth);
+    dilate_depth(&source_depth, decoder, dilate);
     const int w = source_depth.width(), h = source_depth.height();
     if (flags.has("truth")) {
       ColorImage t = read_color(flags.text("truth"));
@@ -441,8 +446,8 @@ int run_compare(int argc, char** argv) {
       }
     }
     char text[512];
-    std::snprintf(text, sizeof text, "frame %s: %dx%d, %s depth; %s: a = %.4g px, b = %.4g px\n", flags.text("color").c_str(), w, h,
-                  to_string(decoder.encoding()), to_string(direction), static_cast<double>(model.a), static_cast<double>(model.b));
+    std::snprintf(text, sizeof text, "frame %s: %dx%d, %s depth%s; %s: a = %.4g px, b = %.4g px\n", flags.text("color").c_str(), w, h,
+                  to_string(decoder.encoding()), dilate_note.c_str(), to_string(direction), static_cast<double>(model.a), static_cast<double>(model.b));
     description = text;
   }
   const int w = source_depth.width(), h = source_depth.height();
@@ -589,7 +594,7 @@ int run_compare(int argc, char** argv) {
               ", \"psnr\": " + json_number(r.psnr) + ", \"mae\": " + json_number(r.mae) +
               ", \"ms\": " + json_number(r.ms[i]) + ", \"scalar_ms\": " + json_number(r.scalar_ms[i]) +
               ", \"roofline_ms\": " + json_number(roofline_ms[i]) + ", \"width\": " + std::to_string(w) +
-              ", \"height\": " + std::to_string(h) + "}";
+              ", \"height\": " + std::to_string(h) + ", \"dilate_depth\": " + std::to_string(dilate) + "}";
       first_record = false;
     }
   }

@@ -4,6 +4,7 @@
 //   reproject pair     a centre view -> both eyes, as files and stereo pictures
 //   reproject compare  every method on a frame or a built-in scene: speed and quality table
 //   reproject scene    a built-in scene's views (colour, depth, true eyes) as files
+//   reproject budget   a depth buffer's parallax budget: figures, comfort shares, histogram picture
 #include <cstdio>
 #include <cstring>
 #include <new>
@@ -22,6 +23,8 @@ const char kUsage[] =
     "  compare  run every method on a frame or a built-in scene: speed, agreement with exact,\n"
     "           error against the true other eye\n"
     "  scene    write a built-in scene's views (colour, depth, true eyes) to files\n"
+    "  budget   parallax budget of a depth file or a built-in scene: min/max, percentiles, comfort\n"
+    "           shares, histogram picture\n"
     "\n"
     "exit codes: 0 ok, 1 runtime error, 2 usage error, 3 input file error, 4 output file error\n";
 
@@ -39,11 +42,12 @@ int main(int argc, char** argv) {
     if (command == "pair") return run_pair(argc, argv);
     if (command == "compare") return run_compare(argc, argv);
     if (command == "scene") return run_scene(argc, argv);
+    if (command == "budget") return run_budget(argc, argv);
     if (command == "help" || command == "--help" || command == "-h") {
       std::fputs(kUsage, stdout);
       return kExitOk;
     }
-    std::fprintf(stderr, "reproject: error: unknown command '%s' (warp, pair, compare, scene; see reproject --help)\n",
+    std::fprintf(stderr, "reproject: error: unknown command '%s' (warp, pair, compare, scene, budget; see reproject --help)\n",
                  command.c_str());
     return kExitUsage;
   } catch (const Failure& f) {

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "cli.hpp"
+#include "reproject/stereo.hpp"
 
 namespace reproject::cli {
 
@@ -45,6 +46,7 @@ std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool wi
       {"hole-threshold", "PX", "a segment whose parallax jumps by more than PX is a wall (hole) [1]"},
       {"fill", "MODE", "hole fill: background, foreground or none [background]"},
       {"edge", "MODE", "pixels from off the source row: clamp, none, black or mirror [clamp]"},
+      {"dilate-depth", "R", "halo pre-filter: each source depth becomes the nearest within R columns, 0..4096 [0: off]"},
   });
   if (with_guard) specs.push_back({"guard", "N", "guard band: source columns on each side beyond the target [0]"});
   specs.insert(specs.end(), {
@@ -176,6 +178,16 @@ Options options_from_flags(const Flags& flags, bool read_threads_arch) {
   return o;
 }
 
+int dilate_radius_from_flags(const Flags& flags) { return flags.integer("dilate-depth", 0, 0, 4096); }
+
+void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius) {
+  if (radius <= 0) return;
+  Image dilated(depth->width(), depth->height(), 1);
+  if (dilated.empty()) fail(kExitRuntime, "out of memory for the dilated depth");
+  check_status(dilate_nearer_depth(depth->plane(0), decoder, radius, dilated.mutable_plane()), "dilate_nearer_depth");
+  *depth = std::move(dilated);
+}
+
 Arch arch_from_flags(const Flags& flags) {
   if (!flags.has("arch")) return selected_arch();
   const std::string name = flags.text("arch");
@@ -233,8 +245,7 @@ long fill_unknown_depth(Image* depth, const std::vector<std::uint8_t>& unknown, 
   return filled;
 }
 
-Frame load_frame(const Flags& flags, const DepthDecoder& decoder) {
-  flags.require("color");
+DepthFile load_depth(const Flags& flags, const DepthDecoder& decoder) {
   flags.require("depth");
   const double scale = flags.number("depth-scale", 1.0, 0.0, HUGE_VAL, true);
   bool unknown_is_nan = false;
@@ -247,26 +258,18 @@ Frame load_frame(const Flags& flags, const DepthDecoder& decoder) {
       unknown_value = static_cast<float>(flags.number("unknown-depth", 0.0));
     }
   }
-  Frame frame;
-  const std::string color_path = flags.text("color"), depth_path = flags.text("depth");
-  frame.color = read_color(color_path);
-  io::LoadedImage depth = read_depth_file(depth_path);
-  const Image& c = frame.color.image;
-  if (c.width() != depth.image.width() || c.height() != depth.image.height()) {
-    fail(kExitInput, "colour '" + color_path + "' is " + std::to_string(c.width()) + "x" + std::to_string(c.height()) +
-                         " but depth '" + depth_path + "' is " + std::to_string(depth.image.width()) + "x" +
-                         std::to_string(depth.image.height()));
-  }
-  frame.depth_bits = depth.bit_depth;
-  frame.depth_scale = scale;
-  frame.depth = std::move(depth.image);
-  const int w = frame.depth.width(), h = frame.depth.height();
+  io::LoadedImage loaded = read_depth_file(flags.text("depth"));
+  DepthFile file;
+  file.bits = loaded.bit_depth;
+  file.scale = scale;
+  file.depth = std::move(loaded.image);
+  const int w = file.depth.width(), h = file.depth.height();
   std::vector<std::uint8_t> unknown;
   const bool find_unknown = flags.has("unknown-depth");
   if (find_unknown) unknown.assign(static_cast<std::size_t>(w) * h, 0);
   const float k = static_cast<float>(scale);
   for (int y = 0; y < h; ++y) {
-    float* row = frame.depth.plane_data() + y * frame.depth.stride();
+    float* row = file.depth.plane_data() + y * file.depth.stride();
     for (int x = 0; x < w; ++x) {
       // The unknown value is matched as stored, before scaling: it is a code, not a depth.
       if (find_unknown) {
@@ -275,7 +278,33 @@ Frame load_frame(const Flags& flags, const DepthDecoder& decoder) {
       if (scale != 1.0) row[x] *= k;
     }
   }
-  if (find_unknown) frame.unknown_filled = fill_unknown_depth(&frame.depth, unknown, decoder);
+  if (find_unknown) file.unknown_filled = fill_unknown_depth(&file.depth, unknown, decoder);
+  return file;
+}
+
+Frame load_frame(const Flags& flags, const DepthDecoder& decoder) {
+  flags.require("color");
+  flags.require("depth");
+  // Every flag is checked before the first file is read.
+  (void)flags.number("depth-scale", 1.0, 0.0, HUGE_VAL, true);
+  if (flags.has("unknown-depth")) {
+    const std::string v = flags.text("unknown-depth");
+    if (v != "nan" && v != "NaN" && v != "NAN") (void)flags.number("unknown-depth", 0.0);
+  }
+  Frame frame;
+  const std::string color_path = flags.text("color"), depth_path = flags.text("depth");
+  frame.color = read_color(color_path);
+  DepthFile depth = load_depth(flags, decoder);
+  const Image& c = frame.color.image;
+  if (c.width() != depth.depth.width() || c.height() != depth.depth.height()) {
+    fail(kExitInput, "colour '" + color_path + "' is " + std::to_string(c.width()) + "x" + std::to_string(c.height()) +
+                         " but depth '" + depth_path + "' is " + std::to_string(depth.depth.width()) + "x" +
+                         std::to_string(depth.depth.height()));
+  }
+  frame.depth_bits = depth.bits;
+  frame.depth_scale = depth.scale;
+  frame.unknown_filled = depth.unknown_filled;
+  frame.depth = std::move(depth.depth);
   return frame;
 }
 

@@ -119,13 +119,15 @@ int run_warp(int argc, char** argv) {
 
   const DepthDecoder decoder = decoder_from_flags(flags);
   const Options opts = options_from_flags(flags, true);
+  const int dilate = dilate_radius_from_flags(flags);
   flags.require("color");
   flags.require("depth");
   // The model needs the target width, known only from the file; check its flags before reading.
   EyeDirection direction = EyeDirection::centre_to_right;
   (void)model_from_flags(flags, 1, &direction);
 
-  const Frame frame = load_frame(flags, decoder);
+  Frame frame = load_frame(flags, decoder);
+  dilate_depth(&frame.depth, decoder, dilate);
   const int w = target_width(frame, opts), h = frame.depth.height();
   const ParallaxModel model = model_from_flags(flags, w, &direction);
 
@@ -140,7 +142,8 @@ int run_warp(int argc, char** argv) {
   if (flags.has("status")) out.bytes(flags.text("status"), eye.status.data(), w, h);
   if (flags.has("source-x")) out.plane(flags.text("source-x"), eye.source_x.plane(0));
   out.commit();
-  std::printf("warp %s, %s: %dx%d -> %dx%d, %s%s\n", to_string(direction), to_string(opts.method), frame.depth.width(), h,
+  std::printf("warp %s, %s%s: %dx%d -> %dx%d, %s%s\n", to_string(direction), to_string(opts.method),
+              dilate > 0 ? (", depth dilated " + std::to_string(dilate) + " px").c_str() : "", frame.depth.width(), h,
               w, h, eye.summary().c_str(),
               frame.unknown_filled > 0 ? (", " + std::to_string(frame.unknown_filled) + " unknown depths filled").c_str() : "");
   return kExitOk;
@@ -202,11 +205,13 @@ int run_pair(int argc, char** argv) {
   }
   const DepthDecoder decoder = decoder_from_flags(flags);
   const Options opts = options_from_flags(flags, true);
+  const int dilate = dilate_radius_from_flags(flags);
   flags.require("color");
   flags.require("depth");
   (void)model_from_flags(flags, 1, nullptr);
 
-  const Frame frame = load_frame(flags, decoder);
+  Frame frame = load_frame(flags, decoder);
+  dilate_depth(&frame.depth, decoder, dilate);
   const int w = target_width(frame, opts), h = frame.depth.height();
   const ParallaxModel to_right = model_from_flags(flags, w, nullptr);
   const int channels = frame.color.image.channels();
@@ -250,8 +255,9 @@ int run_pair(int argc, char** argv) {
     out.color(flags.text("anaglyph"), glyph.color(), 8);
   }
   out.commit();
-  std::printf("pair: %dx%d -> 2 x %dx%d; left %s; right %s\n", frame.depth.width(), h, w, h, left.summary().c_str(),
-              right.summary().c_str());
+  std::printf("pair%s: %dx%d -> 2 x %dx%d; left %s; right %s\n",
+              dilate > 0 ? (" (depth dilated " + std::to_string(dilate) + " px)").c_str() : "", frame.depth.width(), h, w, h,
+              left.summary().c_str(), right.summary().c_str());
   return kExitOk;
 }
 
