@@ -259,7 +259,7 @@ Options make_options(FuzzedDataProvider& in, int width) {
   if (in.ConsumeBool()) options.max_negative_parallax = pick_float(in, static_cast<float>(width));
   if (in.ConsumeBool()) options.hole_threshold = pick_float(in, 1.0f);
   options.hole_fill = static_cast<HoleFill>(in.ConsumeIntegralInRange<int>(0, 3));
-  options.edge = static_cast<EdgeMode>(in.ConsumeIntegralInRange<int>(0, 2));
+  options.edge = static_cast<EdgeMode>(in.ConsumeIntegralInRange<int>(0, 4));  // 4: unknown
   if (in.ConsumeBool()) options.probe_parallax = pick_float(in, static_cast<float>(width));
   switch (in.ConsumeIntegralInRange<int>(0, 3)) {
     case 0: break;
@@ -348,11 +348,13 @@ void check_pixels(const Shape& s, const Options& options, const Target& out, boo
         if (status == 2) CHECK_AT(x < 0.0f || x > last, t, y);
       }
       if (status < 0) continue;
-      const bool written = status == 0 || status == 3 || (status == 2 && options.edge == EdgeMode::clamp) ||
+      const bool written = status == 0 || status == 3 || (status == 2 && options.edge != EdgeMode::none) ||
                            (status == 1 && options.hole_fill != HoleFill::none);
       for (int c = 0; c < s.channels; ++c) {
         const float v = s.interleaved ? out.color[0].row(y)[4 * t + c] : out.color[static_cast<std::size_t>(c)].row(y)[t];
-        if (written) {
+        if (written && status == 2 && options.edge == EdgeMode::black) {
+          CHECK_AT(v == 0.0f, t, y);
+        } else if (written) {
           // Source colour lies in [0, 1]; an interpolation stays there up to rounding.
           CHECK_AT(v >= -1e-3f && v <= 1.001f, t, y);
         } else {

@@ -523,12 +523,10 @@ std::vector<Case> adversarial_cases() {
   return cases;
 }
 
-// KNOWN BUG (reported, not fixed here: the fix belongs in the plan or the validation of
-// src/reproject.cpp / kernels/frame.cpp). A convergence whose b is a valid float but whose
-// product with the decoder's slope is not: the plan folds the decode into b A and a + b B, both
-// overflow to +-inf, and fma(+-inf, d, -+inf) is NaN for every stored value, which the decode then
-// treats as infinitely far (p = a). The true parallax is far beyond L, so every pixel should be
-// outside; instead the frame comes out as a plain shift by a, every pixel a hit.
+// A convergence whose b is a valid float but whose product with the decoder's slope is not: the
+// plan folds the decode into b A and a + b B, which overflow float. Unclamped, fma(+-inf, d, -+inf)
+// would be NaN for every stored value and the frame would come out as if at infinity (a plain
+// shift by a); the true parallax is far beyond L, so every pixel must be outside.
 Case decode_coefficients_overflow_case() {
   const int W = 67;
   Case c;
@@ -567,10 +565,12 @@ Options options_for(Method method, int variant, int guard) {
     case 2:
       o.threads = 0;
       o.hole_fill = HoleFill::none;
+      o.edge = EdgeMode::mirror;
       o.probe_parallax = -4.0f;
       break;
     default:
       o.threads = 1;
+      o.edge = EdgeMode::black;
       o.march_steps = 5;
       o.secant_max_steps = 3;
       o.hole_threshold = 0.0f;
@@ -617,7 +617,7 @@ void check_pixels(const Case& c, const Options& o, const GuardedTarget& out, std
       };
       if (status > 3) return fail("status is not one of the four");
       if (!std::isfinite(x)) return fail("source_x is not finite");
-      const bool written = status == 0 || status == 3 || (status == 2 && o.edge == EdgeMode::clamp) ||
+      const bool written = status == 0 || status == 3 || (status == 2 && o.edge != EdgeMode::none) ||
                            (status == 1 && o.hole_fill != HoleFill::none);
       for (int ch = 0; ch < out.channels; ++ch) {
         const float v = out.colour(ch, t, y);
@@ -641,7 +641,15 @@ void check_pixels(const Case& c, const Options& o, const GuardedTarget& out, std
           case 2: {
             if (!(x < 0.0f || x > last)) return fail("outside inside the row");
             const int edge = x < 0.0f ? 0 : c.scene.source_width - 1;
-            if (v != colour_value(ch, edge, y)) return fail("outside colour is not the edge pixel's");
+            if (o.edge == EdgeMode::black) {
+              if (v != 0.0f) return fail("outside colour is not black");
+            } else if (o.edge == EdgeMode::mirror) {
+              const float reflected = std::clamp(x < 0.0f ? -x : (last - x) + last, 0.0f, last);
+              if (!(std::fabs(v - lerp_colour(c, ch, reflected, y)) <= 1e-5f))
+                return fail("outside colour is not the source at the reflected x");
+            } else if (v != colour_value(ch, edge, y)) {
+              return fail("outside colour is not the edge pixel's");
+            }
             break;
           }
           default:
@@ -652,7 +660,10 @@ void check_pixels(const Case& c, const Options& o, const GuardedTarget& out, std
       }
       const float depth = out.depth->row(y)[t];
       if (!written && std::memcmp(&depth, &kSentinel, sizeof depth) != 0) return fail("depth written where it must not be");
-      if (written && depth_defined_near(c, x, y) && !std::isfinite(depth)) return fail("depth not finite from finite stored values");
+      // Where the depth was read: x, or its reflection for a mirrored outside pixel.
+      const float read_x = status == 2 && o.edge == EdgeMode::mirror ? (x < 0.0f ? -x : (last - x) + last) : x;
+      if (written && depth_defined_near(c, read_x, y) && !std::isfinite(depth))
+        return fail("depth not finite from finite stored values");
     }
   }
 }
