@@ -273,35 +273,64 @@ float simd_nearest_key(const Frame& f, const float* depth) {
 }
 
 // ---- march16 (scalar twin: search_row_march) ----
+// The samples' offsets and parallaxes are the same for every pixel, so they are tabled once per
+// row. Samples run in chunks: inside a chunk, backwards and branch-free (the last select is the
+// first hit, as in the scalar early exit); between chunks, an early exit once every lane has hit.
 
-template <class Arch, class Fma>
-void simd_march(const Frame& f, RowScratch& scratch) {
+constexpr int kMarchChunk = 16;
+
+template <class Arch, class Fma, bool Positive>
+void simd_march_rows(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax) {
   using F = typename Lanes<Arch>::F;
   using B = typename Lanes<Arch>::B;
   constexpr int L = Lanes<Arch>::size;
   const float* parallax = scratch.parallax;
-  const F s(f.s), key_near(f.key_near), lanes = lane_offsets<Arch>();
+  const int samples = f.march_steps + 1;
+  const F key_near(f.key_near), s(f.s), lanes = lane_offsets<Arch>();
+  // s * surface >= s * p without the multiplies (s is +-1, so they are exact anyway).
+  auto on_or_behind = [](const F& surface, float ray_parallax) {
+    if constexpr (Positive) return surface >= F(ray_parallax);
+    else return surface <= F(ray_parallax);
+  };
   int t = 0;
   for (; t + L <= f.target_width; t += L) {
     const int target0 = t + f.guard;
+    const float* row = parallax + target0;
     const F target = F(static_cast<float>(target0)) + lanes;
-    F x = target - F(f.p_far);
+    const F first = F::load_unaligned(row + sample_offset[0]);
+    store_flags<Arch>(s * first > key_near, scratch.clipped.data() + t);
+    F x = target - F(f.p_far);  // no hit: the far end
     B done(false);
-    B clipped(false);
-    for (int k = 0; k <= f.march_steps; ++k) {
-      const float ray_parallax = madd<Fma>(static_cast<float>(k), f.march_step, f.p_near);
-      // The k-th sample of every lane is at the same offset: one contiguous load.
-      const F surface = F::load_unaligned(parallax + target0 + point_offset(ray_parallax));
-      const B hit = (s * surface >= F(f.s * ray_parallax)) & !done;
-      x = xsimd::select(hit, target - surface, x);
-      if (k == 0) clipped = hit & (s * surface > key_near);
-      done = done | hit;
+    for (int chunk = 0; chunk < samples; chunk += kMarchChunk) {
+      F chunk_x = x;
+      B chunk_hit(false);
+      for (int k = std::min(chunk + kMarchChunk, samples) - 1; k >= chunk; --k) {
+        // The k-th sample of every lane is at the same offset: one contiguous load.
+        const F surface = F::load_unaligned(row + sample_offset[k]);
+        const B hit = on_or_behind(surface, sample_parallax[k]);
+        chunk_x = xsimd::select(hit, target - surface, chunk_x);
+        chunk_hit = chunk_hit | hit;
+      }
+      x = xsimd::select(done, x, chunk_x);
+      done = done | chunk_hit;
       if (xsimd::all(done)) break;
     }
     x.store_unaligned(scratch.source_x.data() + t);
-    store_flags<Arch>(clipped, scratch.clipped.data() + t);
   }
   search_row_march<Fma>(f, scratch, t, f.target_width);
+}
+
+template <class Arch, class Fma>
+void simd_march(const Frame& f, RowScratch& scratch) {
+  // At most 1025 samples (Options::march_steps <= 1024).
+  int sample_offset[1025];
+  float sample_parallax[1025];
+  for (int k = 0; k <= f.march_steps; ++k) {
+    sample_parallax[k] = madd<Fma>(static_cast<float>(k), f.march_step, f.p_near);
+    sample_offset[k] = point_offset(sample_parallax[k]);
+  }
+  if (f.s > 0.0f) simd_march_rows<Arch, Fma, true>(f, scratch, sample_offset, sample_parallax);
+  else simd_march_rows<Arch, Fma, false>(f, scratch, sample_offset, sample_parallax);
 }
 
 // ---- single (scalar twin: search_row_single) ----
