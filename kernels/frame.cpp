@@ -222,7 +222,15 @@ Frame plan_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
   f.near_from_frame = !options.max_negative_parallax;
   if (options.max_negative_parallax)
     set_near_key(f, std::max(std::min(*options.max_negative_parallax, f.limit), f.key_far));
+  else if (!near_pass_needed(f))
+    set_near_key(f, f.limit);  // nothing is nearer than L: nothing is clipped, as the frame's own limit says
   return f;
+}
+
+bool near_pass_needed(const Frame& f) {
+  // `single` and `exact` neither start a search at the near end nor (with the frame's own near
+  // limit) clip anything, so they skip the pass over the depth that finds it.
+  return f.near_from_frame && f.method != Method::single && f.method != Method::exact;
 }
 
 void set_near_key(Frame& f, float key_near) {
@@ -231,9 +239,11 @@ void set_near_key(Frame& f, float key_near) {
   f.march_step = (f.p_far - f.p_near) / static_cast<float>(f.march_steps);
 
   // Columns a search may read: x = t' - p for t' in [guard, guard + Wt - 1] and p between the
-  // extremes below, plus one column for interpolation and one for rounding.
-  const float p_max = std::max({f.p_near, f.p_far, f.probe});
-  const float p_min = std::min({f.p_near, f.p_far, f.probe});
+  // extremes below, plus one column for interpolation and one for rounding. Without a near pass
+  // no search reads at the near end (single, exact with the frame's own limit).
+  const float p_read = near_pass_needed(f) || !f.near_from_frame ? f.p_near : f.p_far;
+  const float p_max = std::max({p_read, f.p_far, f.probe});
+  const float p_min = std::min({p_read, f.p_far, f.probe});
   f.pad_left = static_cast<int>(std::max(0.0f, std::ceil(p_max - static_cast<float>(f.guard)))) + 2;
   f.pad_right = static_cast<int>(std::max(0.0f, std::ceil(-p_min - static_cast<float>(f.guard)))) + 3;
 }
@@ -271,7 +281,7 @@ Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
   Frame f = plan_frame(source, decoder, model, options, target);
   // The nearest key s * p in the whole frame: the default near end of every ray (DESIGN §5), so
   // that nothing is clipped.
-  if (!options.max_negative_parallax)
+  if (near_pass_needed(f))
     set_near_key(f, nearest_key_in_rows(f, kernels, thread_scratch(f), 0, f.height));
   return f;
 }

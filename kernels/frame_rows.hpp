@@ -11,11 +11,14 @@
 namespace reproject {
 namespace detail {
 
-// The plan without the near limit when Options::max_negative_parallax is unset: then the caller
-// reduces nearest_key_in_rows() over every row (with std::max, starting from key_far, rows in
+// The plan without the near limit when near_pass_needed() (Options::max_negative_parallax unset,
+// and a method that searches from the near end): then the caller reduces nearest_key_in_rows() over every row (with std::max, starting from key_far, rows in
 // order) and passes the result to set_near_key(). With the option set the plan is complete.
 Frame plan_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                  const Options& options, const TargetView& target);
+
+// Whether the plan still needs the frame's nearest key (nearest_key_in_rows, set_near_key).
+bool near_pass_needed(const Frame& f);
 
 // The fields that follow from the near end of the rays: p_near, the march step, the padding.
 void set_near_key(Frame& f, float key_near);

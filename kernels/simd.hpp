@@ -100,10 +100,15 @@ float lane_max(const xsimd::batch<float, Arch>& v) {
 }
 
 // The resolve stage's data-dependent reads (DESIGN §6 SIMD hints). On smooth surfaces a vector's
-// source columns span fewer than two vectors: then two contiguous loads and a two-source permute
-// replace each gather, which is much cheaper than a hardware gather (on AVX2 and AVX-512). The
-// same two column sets are read from every plane of the row, so the plan is made once per
-// vector and the lane indices once per column set.
+// source columns are nearly consecutive, so contiguous loads and permutes replace the gathers,
+// which are much slower (on AVX2 and AVX-512). The same two column sets are read from every plane
+// of the row, so the plan is made once per vector and the lane indices once per column set:
+//  * `shifted` (AVX2): first[i] within L columns from `base`, and second[i] within L columns from
+//    base + 1 (second = first + 1 except at the row end and in hole fills): two loads, one
+//    permute each;
+//  * `spanning`: both sets within 2L columns from `base`: two loads and a two-register permute
+//    per set (one instruction on AVX-512; on AVX2 two permutes and a blend);
+//  * otherwise hardware gathers.
 template <class Arch>
 class ColumnFetch {
  public:
@@ -111,70 +116,99 @@ class ColumnFetch {
   using I = typename Lanes<Arch>::I;
   static constexpr int L = Lanes<Arch>::size;
 #if defined(__AVX512F__)
-  static constexpr bool kPermute = std::is_base_of<xsimd::avx512f, Arch>::value || std::is_base_of<xsimd::avx2, Arch>::value;
-#elif defined(__AVX2__)
-  static constexpr bool kPermute = std::is_base_of<xsimd::avx2, Arch>::value;
+  static constexpr bool kAvx512 = std::is_base_of<xsimd::avx512f, Arch>::value;
 #else
-  static constexpr bool kPermute = false;
+  static constexpr bool kAvx512 = false;
+#endif
+#if defined(__AVX2__)
+  static constexpr bool kAvx2 = std::is_base_of<xsimd::avx2, Arch>::value;
+#else
+  static constexpr bool kAvx2 = false;
 #endif
 
   // Columns first[i] and second[i] (first <= second) will be read from rows that hold at
-  // least `row_length` columns; the loads read base .. base + 2L - 1, all inside them.
-  ColumnFetch(const F& first, const F& second, int row_length) {
-    if constexpr (kPermute) {
+  // least `row_length` columns; every load stays inside them.
+  ColumnFetch(const F& first, const F& second, int row_length) : row_length_(row_length) { bind(first, second); }
+
+  // (Re)plans for new column sets (hole fills).
+  void bind(const F& first, const F& second) {
+    mode_ = Mode::gather;
+    if constexpr (kAvx512 || kAvx2) {
       const float lowest = lane_min<Arch>(first);
       base_ = static_cast<int>(lowest);
-      contiguous_ = lane_max<Arch>(second) - lowest < static_cast<float>(2 * L) && base_ + 2 * L <= row_length;
-    }
-    bind(first, second);
-  }
-  // The columns changed (hole fills), within the planned range.
-  void bind(const F& first, const F& second) {
-    const F offset(contiguous_ ? static_cast<float>(base_) : 0.0f);
-    first_ = xsimd::to_int(first - offset);
-    second_ = xsimd::to_int(second - offset);
-#if defined(__AVX2__)
-    if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
-      first_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(first_, _mm256_set1_epi32(L - 1)));
-      second_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(second_, _mm256_set1_epi32(L - 1)));
-    }
-#endif
-  }
-  // A row's values at both column sets, from one pair of loads when contiguous.
-  void fetch(const float* row, F& at_first, F& at_second) const {
-    if constexpr (kPermute) {
-      if (contiguous_) {
-        const F low = F::load_unaligned(row + base_);
-        const F high = F::load_unaligned(row + base_ + L);
-#if defined(__AVX512F__)
-        if constexpr (std::is_base_of<xsimd::avx512f, Arch>::value) {
-          at_first = _mm512_permutex2var_ps(low, first_, high);
-          at_second = _mm512_permutex2var_ps(low, second_, high);
+      const F from_base = first - F(lowest);
+      const F second_from_base = second - F(lowest);
+      if constexpr (kAvx2) {
+        if (base_ + L < row_length_ &&
+            xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
+                       (second_from_base <= F(static_cast<float>(L))))) {
+          mode_ = Mode::shifted;
+          first_ = xsimd::to_int(from_base);
+          second_ = xsimd::to_int(second_from_base - F(1.0f));
           return;
         }
-#endif
+      }
+      if (base_ + 2 * L <= row_length_ && xsimd::all(second_from_base < F(static_cast<float>(2 * L)))) {
+        mode_ = Mode::spanning;
+        first_ = xsimd::to_int(from_base);
+        second_ = xsimd::to_int(second_from_base);
 #if defined(__AVX2__)
-        if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
-          // AVX2's permute reaches one register: permute both, then take each lane's own.
-          at_first = _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, first_), _mm256_permutevar8x32_ps(high, first_),
-                                      first_high_);
-          at_second = _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, second_),
-                                       _mm256_permutevar8x32_ps(high, second_), second_high_);
-          return;
+        if constexpr (kAvx2) {
+          first_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(first_, _mm256_set1_epi32(L - 1)));
+          second_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(second_, _mm256_set1_epi32(L - 1)));
         }
 #endif
+        return;
       }
     }
+    first_ = xsimd::to_int(first);
+    second_ = xsimd::to_int(second);
+  }
+
+  // A row's values at both column sets.
+  void fetch(const float* row, F& at_first, F& at_second) const {
+#if defined(__AVX2__)
+    if constexpr (kAvx2) {
+      if (mode_ == Mode::shifted) {
+        at_first = _mm256_permutevar8x32_ps(F::load_unaligned(row + base_), first_);
+        at_second = _mm256_permutevar8x32_ps(F::load_unaligned(row + base_ + 1), second_);
+        return;
+      }
+      if (mode_ == Mode::spanning) {
+        // AVX2's permute reaches one register: permute both, then take each lane's own.
+        const F low = F::load_unaligned(row + base_);
+        const F high = F::load_unaligned(row + base_ + L);
+        at_first = _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, first_), _mm256_permutevar8x32_ps(high, first_),
+                                    first_high_);
+        at_second = _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, second_), _mm256_permutevar8x32_ps(high, second_),
+                                     second_high_);
+        return;
+      }
+    }
+#endif
+#if defined(__AVX512F__)
+    if constexpr (kAvx512) {
+      if (mode_ == Mode::spanning) {
+        const F low = F::load_unaligned(row + base_);
+        const F high = F::load_unaligned(row + base_ + L);
+        at_first = _mm512_permutex2var_ps(low, first_, high);
+        at_second = _mm512_permutex2var_ps(low, second_, high);
+        return;
+      }
+    }
+#endif
     at_first = gather<Arch>(row, first_);
     at_second = gather<Arch>(row, second_);
   }
 
  private:
-  bool contiguous_ = false;
+  enum class Mode { gather, shifted, spanning };
+  Mode mode_ = Mode::gather;
+  int row_length_;
   int base_ = 0;
   I first_, second_;
 #if defined(__AVX2__)
-  __m256 first_high_ = _mm256_setzero_ps();  // lanes that come from the second load
+  __m256 first_high_ = _mm256_setzero_ps();  // `spanning`: lanes that come from the second load
   __m256 second_high_ = _mm256_setzero_ps();
 #endif
 };

@@ -347,7 +347,7 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
   phase.nearest = nearest;
   phase.slots = set.slots.data();
   phase.slot_count = slot_count;
-  if (!options.max_negative_parallax) {
+  if (detail::near_pass_needed(frames[0])) {
     phase.near_pass = true;
     run_phase(phase, tasks, pool, slot_count, jobs);
     for (int k = 0; k < frame_count; ++k) {

@@ -64,7 +64,8 @@ struct Options {
   Method method = Method::exact;
   // Largest crossed ("out of the screen") parallax the search allows, in pixels, >= 0: the ray's
   // near end has parallax p_near = sign(b) * max_negative_parallax. Unset: the most negative
-  // parallax present in the frame (one pass over the depth), so nothing is clipped.
+  // parallax present in the frame, so nothing is clipped (scanline, march16 and secant find it
+  // with one pass over the depth; single and exact need no pass, as they never search from it).
   std::optional<float> max_negative_parallax;
   float hole_threshold = 1.0f;  // tau, pixels (>= 0): segment [j, j+1] is a wall if p[j+1] - p[j] > tau
   HoleFill hole_fill = HoleFill::background;
@@ -84,7 +85,8 @@ struct Options {
 };
 
 // An engine's own job system: `run` must call task(task_context, i) once for every i in
-// [0, count), in any order and on any threads, and return when all calls have returned.
+// [0, count), in any order and on any threads, and return when all calls have returned. A call
+// runs it once, or twice when the default near limit needs its pass over the depth.
 struct ParallelFor {
   void* context = nullptr;
   void (*run)(void* context, int count, void (*task)(void* task_context, int index), void* task_context) = nullptr;
