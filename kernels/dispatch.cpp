@@ -106,7 +106,11 @@ namespace detail {
 
 const KernelTable* compiled_kernels(Arch arch) {
   switch (arch) {
-    case Arch::scalar: return &scalar_kernels(true);
+    case Arch::scalar:
+#if defined(REPROJECT_HAVE_SCALAR_HOST)
+      if (cpu_supports(Arch::avx2)) return &host::scalar_kernels(true);
+#endif
+      return &scalar_kernels(true);
     case Arch::sse: return sse_kernels();
     case Arch::avx2: return avx2_kernels();
     case Arch::avx512: return avx512_kernels();

@@ -3,6 +3,7 @@
 
 namespace reproject {
 namespace detail {
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
 
 template <class Fma>
 void search_row_exact(const Frame& f, RowScratch& scratch, int, int) {
@@ -12,5 +13,6 @@ void search_row_exact(const Frame& f, RowScratch& scratch, int, int) {
 template void search_row_exact<Fused>(const Frame&, RowScratch&, int, int);
 template void search_row_exact<Unfused>(const Frame&, RowScratch&, int, int);
 
+}  // inline namespace REPROJECT_SCALAR_COPY
 }  // namespace detail
 }  // namespace reproject

@@ -174,6 +174,29 @@ inline float march_columns(const Frame& f, const float* parallax, int target, fl
 
 }  // namespace
 
+// One instruction set's kernels: every stage of every method.
+using DecodeRow = void (*)(const Frame& f, const float* depth, float* parallax);
+using SearchRow = void (*)(const Frame& f, RowScratch& scratch);
+using ResolveRow = void (*)(const Frame& f, int y, const RowScratch& scratch);
+using NearestKey = float (*)(const Frame& f, const float* depth);  // max of key_far and s * p over a row
+struct KernelTable {
+  const char* name;
+  DecodeRow decode;
+  NearestKey nearest_key;
+  SearchRow search[kMethodCount];
+  ResolveRow resolve;
+};
+
+// The scalar references are compiled twice (CMakeLists.txt): with the baseline flags, and with
+// the AVX2 + FMA flags into namespace `host`, so that Arch::scalar on a CPU that has them runs
+// single-instruction std::fma and std::floor instead of library calls (as a user's own scalar
+// code built with -march=native would). Each translation unit sees its own copy as an inline
+// namespace; the two copies give the same bits (-ffp-contract=off; fma and floor are exact).
+#ifndef REPROJECT_SCALAR_COPY
+#define REPROJECT_SCALAR_COPY baseline
+#endif
+inline namespace REPROJECT_SCALAR_COPY {
+
 // Each method's scalar reference over target pixels [t_begin, t_end) of the current row: writes
 // x (source columns) and the clipped flag per target pixel. The resolve stage turns them into
 // outputs. (exact sweeps the whole row: it ignores the range.)
@@ -189,21 +212,10 @@ template <class Fma> void decode_parallax_columns(const Frame& f, const float* d
 template <class Fma> float nearest_key_in_columns(const Frame& f, const float* depth, int begin, int end, float nearest);
 template <class Fma> void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begin, int t_end);
 
-// One instruction set's kernels: every stage of every method.
-using DecodeRow = void (*)(const Frame& f, const float* depth, float* parallax);
-using SearchRow = void (*)(const Frame& f, RowScratch& scratch);
-using ResolveRow = void (*)(const Frame& f, int y, const RowScratch& scratch);
-using NearestKey = float (*)(const Frame& f, const float* depth);  // max of key_far and s * p over a row
-struct KernelTable {
-  const char* name;
-  DecodeRow decode;
-  NearestKey nearest_key;
-  SearchRow search[kMethodCount];
-  ResolveRow resolve;
-};
-
 // The scalar references as a table, with either FMA policy.
 const KernelTable& scalar_kernels(bool fused);
+
+}  // inline namespace REPROJECT_SCALAR_COPY
 
 // Builds the plan from validated inputs (including the default p_near pass over the depth).
 Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,

@@ -4,6 +4,7 @@
 
 namespace reproject {
 namespace detail {
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
 
 template <class Fma>
 void search_row_march(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
@@ -29,5 +30,6 @@ void search_row_march(const Frame& f, RowScratch& scratch, int t_begin, int t_en
 template void search_row_march<Fused>(const Frame&, RowScratch&, int, int);
 template void search_row_march<Unfused>(const Frame&, RowScratch&, int, int);
 
+}  // inline namespace REPROJECT_SCALAR_COPY
 }  // namespace detail
 }  // namespace reproject

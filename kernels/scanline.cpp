@@ -6,6 +6,7 @@
 
 namespace reproject {
 namespace detail {
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
 
 template <class Fma>
 void search_row_scanline(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
@@ -25,5 +26,6 @@ void search_row_scanline(const Frame& f, RowScratch& scratch, int t_begin, int t
 template void search_row_scanline<Fused>(const Frame&, RowScratch&, int, int);
 template void search_row_scanline<Unfused>(const Frame&, RowScratch&, int, int);
 
+}  // inline namespace REPROJECT_SCALAR_COPY
 }  // namespace detail
 }  // namespace reproject

@@ -15,6 +15,7 @@
 
 namespace reproject {
 namespace detail {
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
 
 void build_block_table(const Frame& f, RowScratch& scratch) {
   const int blocks = (f.source_width + kSecantBlock - 1) / kSecantBlock;
@@ -154,5 +155,6 @@ void search_row_secant(const Frame& f, RowScratch& scratch, int t_begin, int t_e
 template void search_row_secant<Fused>(const Frame&, RowScratch&, int, int);
 template void search_row_secant<Unfused>(const Frame&, RowScratch&, int, int);
 
+}  // inline namespace REPROJECT_SCALAR_COPY
 }  // namespace detail
 }  // namespace reproject

@@ -12,9 +12,6 @@ constexpr int kSecantBlock = 8;   // source columns per entry of the min/max tab
 constexpr int kSecantIterations = 8;
 constexpr float kSecantTolerance = 1e-3f;
 
-// Per block of kSecantBlock source columns, the lowest and highest key s * p.
-void build_block_table(const Frame& f, RowScratch& scratch);
-
 // The part of the ray that tile [tile_begin, tile_begin + 16) marches: a crossing has a key
 // the tile can reach, so the march runs from p_start to p_end only.
 struct TileRay {
@@ -23,6 +20,12 @@ struct TileRay {
   bool starts_at_near_end;  // p_start == p_near: a ray behind the surface there is clipped
   bool column_steps;        // the span fits secant_max_steps: walk every column (exact)
 };
+
+inline namespace REPROJECT_SCALAR_COPY {  // compiled with each scalar copy (frame.hpp)
+
+// Per block of kSecantBlock source columns, the lowest and highest key s * p.
+void build_block_table(const Frame& f, RowScratch& scratch);
+
 TileRay tile_ray(const Frame& f, const RowScratch& scratch, int tile_begin);
 
 // Secant refinement (Illinois) of a bracket in offsets from target column t': g(o_front) > 0,
@@ -31,5 +34,6 @@ template <class Fma>
 float secant_refine(const Frame& f, const float* parallax, int target, float o_front, float gap_front,
                     float o_behind, float gap_behind);
 
+}  // inline namespace REPROJECT_SCALAR_COPY
 }  // namespace detail
 }  // namespace reproject

@@ -4,6 +4,7 @@
 
 namespace reproject {
 namespace detail {
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
 
 template <class Fma>
 void search_row_single(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
@@ -20,5 +21,6 @@ void search_row_single(const Frame& f, RowScratch& scratch, int t_begin, int t_e
 template void search_row_single<Fused>(const Frame&, RowScratch&, int, int);
 template void search_row_single<Unfused>(const Frame&, RowScratch&, int, int);
 
+}  // inline namespace REPROJECT_SCALAR_COPY
 }  // namespace detail
 }  // namespace reproject
