@@ -1,0 +1,30 @@
+# ctest BenchmarkNames: every name reproject_bench registers has the form the benchmark issue fixes,
+# with no suffix of Google Benchmark's own (such as "/real_time"), and the required ones exist.
+#   cmake -DBENCH=<path to reproject_bench> -P check_names.cmake
+execute_process(COMMAND "${BENCH}" --benchmark_list_tests OUTPUT_VARIABLE listing RESULT_VARIABLE result)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "reproject_bench --benchmark_list_tests failed: ${result}")
+endif()
+string(REPLACE "\n" ";" names "${listing}")
+list(FILTER names EXCLUDE REGEX "^$")
+list(LENGTH names count)
+set(method "(pair_)?(scanline|march16|single|secant|exact)/(scalar|sse|avx2|avx512)")
+foreach(name IN LISTS names)
+  if(NOT name MATCHES "^${method}/[0-9]+x[0-9]+/threads:[12](/sep:(8|32|128)|/rgba|/grey)?$"
+     AND NOT name MATCHES "^roofline/[0-9]+x[0-9]+/threads:[12](/rgba|/grey)?$")
+    message(FATAL_ERROR "benchmark name out of form: '${name}'")
+  endif()
+endforeach()
+# Scalar always runs, so its names are always registered.
+foreach(required
+    roofline/1280x720/threads:1 roofline/1920x1080/threads:2 roofline/3840x2160/threads:2
+    roofline/512x512/threads:1/grey march16/scalar/512x512/threads:1/grey
+    march16/scalar/1920x1080/threads:2 scanline/scalar/1920x1080/threads:1/sep:128
+    exact/scalar/3840x2160/threads:1 single/scalar/1920x1080/threads:2/rgba
+    pair_secant/scalar/1920x1080/threads:2)
+  list(FIND names "${required}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "benchmark missing: ${required}")
+  endif()
+endforeach()
+message(STATUS "${count} benchmark names, all of the fixed form")
