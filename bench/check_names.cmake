@@ -1,6 +1,7 @@
 # ctest BenchmarkNames: every name reproject_bench registers has the form the benchmark issue fixes,
 # with no suffix of Google Benchmark's own (such as "/real_time"), and the required ones exist.
 #   cmake -DBENCH=<path to reproject_bench> -P check_names.cmake
+cmake_policy(SET CMP0007 NEW)
 execute_process(COMMAND "${BENCH}" --benchmark_list_tests OUTPUT_VARIABLE listing RESULT_VARIABLE result)
 if(NOT result EQUAL 0)
   message(FATAL_ERROR "reproject_bench --benchmark_list_tests failed: ${result}")
