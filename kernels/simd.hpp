@@ -103,6 +103,8 @@ float lane_max(const xsimd::batch<float, Arch>& v) {
 // source columns are nearly consecutive, so contiguous loads and permutes replace the gathers,
 // which are much slower (on AVX2 and AVX-512). The same two column sets are read from every plane
 // of the row, so the plan is made once per vector and the lane indices once per column set:
+//  * `consecutive` (AVX2): first[i] = base + i and second[i] = base + i + 1 (a surface at constant
+//    parallax): two plain loads;
 //  * `shifted` (AVX2): first[i] within L columns from `base`, and second[i] within L columns from
 //    base + 1 (second = first + 1 except at the row end and in hole fills): two loads, one
 //    permute each;
@@ -142,6 +144,12 @@ class ColumnFetch {
         if (base_ + L < row_length_ &&
             xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
                        (second_from_base <= F(static_cast<float>(L))))) {
+          // Lane i reads column base + i (and base + i + 1): plain loads, nothing to permute.
+          const F lanes = lane_offsets<Arch>();
+          if (xsimd::all((from_base == lanes) & (second_from_base == lanes + F(1.0f)))) {
+            mode_ = Mode::consecutive;
+            return;
+          }
           mode_ = Mode::shifted;
           first_ = xsimd::to_int(from_base);
           second_ = xsimd::to_int(second_from_base - F(1.0f));
@@ -169,6 +177,11 @@ class ColumnFetch {
   void fetch(const float* row, F& at_first, F& at_second) const {
 #if defined(__AVX2__)
     if constexpr (kAvx2) {
+      if (mode_ == Mode::consecutive) {
+        at_first = F::load_unaligned(row + base_);
+        at_second = F::load_unaligned(row + base_ + 1);
+        return;
+      }
       if (mode_ == Mode::shifted) {
         at_first = _mm256_permutevar8x32_ps(F::load_unaligned(row + base_), first_);
         at_second = _mm256_permutevar8x32_ps(F::load_unaligned(row + base_ + 1), second_);
@@ -202,7 +215,7 @@ class ColumnFetch {
   }
 
  private:
-  enum class Mode { gather, shifted, spanning };
+  enum class Mode { gather, consecutive, shifted, spanning };
   Mode mode_ = Mode::gather;
   int row_length_;
   int base_ = 0;
@@ -620,6 +633,7 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
       resolve_rgba_pixels<Arch, Fma>(source[0], target[0] + 4 * static_cast<std::ptrdiff_t>(t), j0, j1, frac, !write,
                                      black, masked || (black_edges && xsimd::any(black)));
     } else {
+      for (int c = 0; c < planes; ++c) __builtin_prefetch(source[c] + t + 256);
       for (int c = 0; c < planes; ++c) {
         F c0, c1;
         columns.fetch(source[c], c0, c1);

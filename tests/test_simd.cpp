@@ -46,9 +46,11 @@ Frame make_frame(std::mt19937& rng, const Case& c, const DepthDecoder& decoder) 
   for (int y = 0; y < frame.height; ++y) {
     int x = 0;
     while (x < c.width) {
-      const int length = 1 + static_cast<int>(unit(rng) * 12.0f);
+      // Some runs long and flat (constant parallax: the resolve's plain-load fetch), most short.
+      const bool flat = unit(rng) < 0.25f;
+      const int length = 1 + static_cast<int>(unit(rng) * (flat ? 40.0f : 12.0f));
       const double z0 = unit(rng) < 0.2f ? 19.0 : 1.2 + 15.0 * unit(rng);
-      const double slope = (unit(rng) - 0.5) * 0.4;
+      const double slope = flat ? 0.0 : (unit(rng) - 0.5) * 0.4;
       for (int k = 0; k < length && x < c.width; ++k, ++x) {
         float d = decoder.encode(std::max(1.05, z0 + slope * k));
         const float roll = unit(rng);
