@@ -135,6 +135,19 @@ class ColumnFetch {
   // (Re)plans for new column sets (hole fills).
   void bind(const F& first, const F& second) {
     mode_ = Mode::gather;
+#if defined(__AVX2__)
+    if constexpr (kAvx2) {
+      // Lane i reads column base + i (and base + i + 1): plain loads, nothing to permute. Tested
+      // from lane 0 first, without a reduction: the common case on smooth surfaces.
+      const float first_lane = _mm256_cvtss_f32(first);
+      const F lanes = F(first_lane) + lane_offsets<Arch>();
+      base_ = static_cast<int>(first_lane);
+      if (base_ + L < row_length_ && xsimd::all((first == lanes) & (second == lanes + F(1.0f)))) {
+        mode_ = Mode::consecutive;
+        return;
+      }
+    }
+#endif
     if constexpr (kAvx512 || kAvx2) {
       const float lowest = lane_min<Arch>(first);
       base_ = static_cast<int>(lowest);
@@ -144,12 +157,6 @@ class ColumnFetch {
         if (base_ + L < row_length_ &&
             xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
                        (second_from_base <= F(static_cast<float>(L))))) {
-          // Lane i reads column base + i (and base + i + 1): plain loads, nothing to permute.
-          const F lanes = lane_offsets<Arch>();
-          if (xsimd::all((from_base == lanes) & (second_from_base == lanes + F(1.0f)))) {
-            mode_ = Mode::consecutive;
-            return;
-          }
           mode_ = Mode::shifted;
           first_ = xsimd::to_int(from_base);
           second_ = xsimd::to_int(second_from_base - F(1.0f));
@@ -172,6 +179,7 @@ class ColumnFetch {
     first_ = xsimd::to_int(first);
     second_ = xsimd::to_int(second);
   }
+
 
   // A row's values at both column sets.
   void fetch(const float* row, F& at_first, F& at_second) const {
