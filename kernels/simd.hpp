@@ -23,6 +23,8 @@ namespace reproject {
 namespace detail {
 namespace {
 
+// Negation of lane masks is written ~mask: xsimd 8.1's !mask compares with `false`, which on AVX
+// goes through two 128-bit integer compares; ~ is one xor (and folds into andnot).
 template <class Arch>
 struct Lanes {
   using F = xsimd::batch<float, Arch>;
@@ -449,7 +451,7 @@ xsimd::batch<float, Arch> simd_march_columns(const Frame& f, const float* parall
   for (int o = walk.first; walking(walk, o); o += walk.step) {
     const float column = static_cast<float>(o);
     const F gap = s * (F(-column) - F::load_unaligned(parallax + target0 + o));
-    const B hit = (gap <= zero) & !done;
+    const B hit = (gap <= zero) & ~done;
     if (xsimd::any(hit)) {
       offset = xsimd::select(hit, intersect_v<Arch, Fma>(F(o_prev), gap_prev, F(column), gap), offset);
       done = done | hit;
@@ -459,7 +461,7 @@ xsimd::batch<float, Arch> simd_march_columns(const Frame& f, const float* parall
     gap_prev = gap;
   }
   const F gap = s * (F(-o_end) - parallax_at_offset_v<Arch, Fma>(parallax, target0, o_end));
-  const B hit = (gap <= zero) & !done;
+  const B hit = (gap <= zero) & ~done;
   offset = xsimd::select(hit, intersect_v<Arch, Fma>(F(o_prev), gap_prev, F(o_end), gap), offset);
   return xsimd::select(done | hit, offset, F(o_end));
 }
@@ -525,7 +527,7 @@ void simd_secant(const Frame& f, RowScratch& scratch) {
           for (int k = 1; k <= f.secant_max_steps && !xsimd::all(done); ++k) {
             const float o_k = -(k == f.secant_max_steps ? ray.p_end : madd<Fma>(static_cast<float>(k), step, ray.p_start));
             const F gap = s * (F(-o_k) - parallax_at_offset_v<Arch, Fma>(parallax, target0, o_k));
-            const B hit = (gap <= zero) & !done;
+            const B hit = (gap <= zero) & ~done;
             if (xsimd::any(hit)) {
               alignas(64) float hit_lane[L];
               xsimd::select(hit, F(1.0f), zero).store_aligned(hit_lane);
@@ -631,7 +633,7 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   for (; t + L <= f.target_width; t += L) {
     const F x = F::load_unaligned(scratch.source_x.data() + t);
     const B clipped = load_flags<Arch>(scratch.clipped.data() + t);
-    const B outside = ((x < zero) | (x > last)) & !clipped;
+    const B outside = ((x < zero) | (x > last)) & ~clipped;
     F xs = x;
     if (mirror_edges) {  // reflected about the edge pixel's centre (then clamped)
       xs = xsimd::select(outside & (x < zero), -x, xsimd::select(outside & (x > last), (last - x) + last, x));
@@ -644,7 +646,7 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
     ColumnFetch<Arch> columns(j0, j1, f.source_width);
     F p0, p1;
     columns.fetch(parallax, p0, p1);
-    const B hole = ((p1 - p0) > tau) & !(clipped | outside);
+    const B hole = ((p1 - p0) > tau) & ~(clipped | outside);
     const bool any_hole = xsimd::any(hole);
     if (any_hole) {
       // A wall (§5): the farther endpoint has the smaller key s * p.
@@ -659,13 +661,13 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
     }
     // Lanes whose colour and depth are left to the caller keep the target's values.
     const bool masked = (!edges_written && xsimd::any(outside)) || (!holes_written && any_hole);
-    const B write = !((outside & B(!edges_written)) | (hole & B(!holes_written)));
+    const B write = ~((outside & B(!edges_written)) | (hole & B(!holes_written)));
     auto store = [&](float* out, const F& value) {
       (masked ? xsimd::select(write, value, F::load_unaligned(out)) : value).store_unaligned(out);
     };
     if (interleaved) {
       const B black = outside & B(black_edges);
-      resolve_rgba_pixels<Arch, Fma>(source[0], target[0] + 4 * static_cast<std::ptrdiff_t>(t), j0, j1, frac, !write,
+      resolve_rgba_pixels<Arch, Fma>(source[0], target[0] + 4 * static_cast<std::ptrdiff_t>(t), j0, j1, frac, ~write,
                                      black, masked || (black_edges && xsimd::any(black)));
     } else {
       // A kilobyte ahead in each colour plane: a measured 1-3 % over the hardware prefetcher
