@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <xsimd/xsimd.hpp>
 
@@ -383,23 +384,23 @@ void simd_march_rows(const Frame& f, RowScratch& scratch, const int* sample_offs
     const F target = F(static_cast<float>(target0)) + lanes;
     const F first = F::load_unaligned(row + sample_offset[0]);
     store_flags<Arch>(s * first > key_near, scratch.clipped.data() + t);
-    F x = target - F(f.p_far);  // no hit: the far end
+    // The parallax of the first sample on or behind the surface; no hit: the far end.
+    F hit_parallax(f.p_far);
     B done(false);
     for (int chunk = 0; chunk < samples; chunk += kMarchChunk) {
-      F chunk_x = x;
-      B chunk_hit(false);
+      // NaN until a sample of the chunk hits (decoded parallax is never NaN).
+      F chunk_parallax(std::numeric_limits<float>::quiet_NaN());
       for (int k = std::min(chunk + kMarchChunk, samples) - 1; k >= chunk; --k) {
         // The k-th sample of every lane is at the same offset: one contiguous load.
         const F surface = F::load_unaligned(row + sample_offset[k]);
-        const B hit = on_or_behind(surface, sample_parallax[k]);
-        chunk_x = xsimd::select(hit, target - surface, chunk_x);
-        chunk_hit = chunk_hit | hit;
+        chunk_parallax = xsimd::select(on_or_behind(surface, sample_parallax[k]), surface, chunk_parallax);
       }
-      x = xsimd::select(done, x, chunk_x);
+      const B chunk_hit = chunk_parallax == chunk_parallax;
+      hit_parallax = xsimd::select(chunk_hit & ~done, chunk_parallax, hit_parallax);
       done = done | chunk_hit;
       if (xsimd::all(done)) break;
     }
-    x.store_unaligned(scratch.source_x.data() + t);
+    (target - hit_parallax).store_unaligned(scratch.source_x.data() + t);
   }
   search_row_march<Fma>(f, scratch, t, f.target_width);
 }
