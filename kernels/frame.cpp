@@ -115,10 +115,10 @@ void prepare_scratch(const Frame& f, RowScratch& scratch) {
   }
   // `secant` sizes its block table itself on first use; doing it here keeps that first use from
   // allocating inside a row on whichever thread happens to run it.
-  const std::size_t blocks = static_cast<std::size_t>((f.source_width + kSecantBlock - 1) / kSecantBlock);
-  if (scratch.block_min.size() < blocks) {
-    scratch.block_min.resize(blocks);
-    scratch.block_max.resize(blocks);
+  const std::size_t entries = secant_table_size(f.source_width);
+  if (scratch.block_min.size() < entries) {
+    scratch.block_min.resize(entries);
+    scratch.block_max.resize(entries);
   }
 }
 

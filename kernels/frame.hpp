@@ -59,7 +59,7 @@ struct RowScratch {
   std::vector<float> parallax_storage;
   std::vector<float> source_x;
   std::vector<float> clipped;  // 1 or 0 per target pixel: a float, so SIMD reads it with one load
-  std::vector<float> block_min;  // `secant`: per block of kSecantBlock columns, min/max key
+  std::vector<float> block_min;  // `secant`: min/max key per block of columns (secant.hpp)
   std::vector<float> block_max;
   const float* parallax = nullptr;  // column 0 of the padded row
 };

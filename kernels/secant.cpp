@@ -19,10 +19,13 @@ inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
 
 void build_block_table(const Frame& f, RowScratch& scratch) {
   const int blocks = (f.source_width + kSecantBlock - 1) / kSecantBlock;
-  if (scratch.block_min.size() < static_cast<std::size_t>(blocks)) {
-    scratch.block_min.resize(blocks);
-    scratch.block_max.resize(blocks);
+  const std::size_t entries = secant_table_size(f.source_width);
+  if (scratch.block_min.size() < entries) {
+    scratch.block_min.resize(entries);
+    scratch.block_max.resize(entries);
   }
+  float* lowest = scratch.block_min.data();
+  float* highest = scratch.block_max.data();
   for (int k = 0; k < blocks; ++k) {
     const int begin = k * kSecantBlock;
     const int end = std::min(begin + kSecantBlock, f.source_width);
@@ -33,8 +36,19 @@ void build_block_table(const Frame& f, RowScratch& scratch) {
       lo = std::min(lo, key);
       hi = std::max(hi, key);
     }
-    scratch.block_min[k] = lo;
-    scratch.block_max[k] = hi;
+    lowest[k] = lo;
+    highest[k] = hi;
+  }
+  // Level l, block b: the bounds of blocks [b, b + 2^l) from two halves of level l - 1.
+  for (int span = 1; 2 * span <= blocks; span *= 2) {
+    const float* lowest_below = lowest;
+    const float* highest_below = highest;
+    lowest += blocks;
+    highest += blocks;
+    for (int k = 0; k + 2 * span <= blocks; ++k) {
+      lowest[k] = std::min(lowest_below[k], lowest_below[k + span]);
+      highest[k] = std::max(highest_below[k], highest_below[k + span]);
+    }
   }
 }
 
@@ -60,9 +74,18 @@ KeyBounds reachable_keys(const Frame& f, const RowScratch& scratch, int t_begin,
   if (column_hi > last) include(f.s * scratch.parallax[last]);
   column_lo = std::max(column_lo, 0);
   column_hi = std::min(column_hi, last);
-  for (int k = column_lo / kSecantBlock; column_lo <= column_hi && k <= column_hi / kSecantBlock; ++k) {
-    include(scratch.block_min[k]);
-    include(scratch.block_max[k]);
+  if (column_lo <= column_hi) {
+    // Blocks [first, last_block] are covered by two (overlapping) runs of 2^level blocks.
+    const int blocks = (f.source_width + kSecantBlock - 1) / kSecantBlock;
+    const int first = column_lo / kSecantBlock;
+    const int last_block = column_hi / kSecantBlock;
+    int level = 0;
+    while ((2 << level) <= last_block - first + 1) ++level;
+    const std::size_t row = static_cast<std::size_t>(level) * static_cast<std::size_t>(blocks);
+    for (const int k : {first, last_block + 1 - (1 << level)}) {
+      include(scratch.block_min[row + k]);
+      include(scratch.block_max[row + k]);
+    }
   }
   return bounds;
 }

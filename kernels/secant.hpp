@@ -9,6 +9,15 @@ namespace detail {
 
 constexpr int kSecantTile = 16;   // target pixels that share one step plan, whatever the SIMD width
 constexpr int kSecantBlock = 8;   // source columns per entry of the min/max table
+
+// Size of the block table (a sparse table: level l holds, per block b, the bounds over blocks
+// [b, b + 2^l)) for a row of `columns` source columns: levels * blocks entries.
+inline std::size_t secant_table_size(int columns) {
+  const int blocks = (columns + kSecantBlock - 1) / kSecantBlock;
+  int levels = 1;
+  while ((2 << (levels - 1)) <= blocks) ++levels;
+  return static_cast<std::size_t>(levels) * static_cast<std::size_t>(blocks);
+}
 constexpr int kSecantIterations = 8;
 constexpr float kSecantTolerance = 1e-3f;
 
@@ -23,7 +32,9 @@ struct TileRay {
 
 inline namespace REPROJECT_SCALAR_COPY {  // compiled with each scalar copy (frame.hpp)
 
-// Per block of kSecantBlock source columns, the lowest and highest key s * p.
+// Per block of kSecantBlock source columns, the lowest and highest key s * p, with the coarser
+// levels of the sparse table, so that tile_ray() bounds any range of blocks with two lookups
+// (its cost stays flat as the separation, and so the range a tile's rays span, grows).
 void build_block_table(const Frame& f, RowScratch& scratch);
 
 TileRay tile_ray(const Frame& f, const RowScratch& scratch, int tile_begin);
