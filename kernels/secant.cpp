@@ -27,14 +27,22 @@ void build_block_table(const Frame& f, RowScratch& scratch) {
   float* lowest = scratch.block_min.data();
   float* highest = scratch.block_max.data();
   for (int k = 0; k < blocks; ++k) {
+    // A whole block has a fixed trip count, which the compiler unrolls (the last may be partial).
     const int begin = k * kSecantBlock;
-    const int end = std::min(begin + kSecantBlock, f.source_width);
+    const int count = std::min(kSecantBlock, f.source_width - begin);
+    const float* parallax = scratch.parallax + begin;
     float lo = std::numeric_limits<float>::infinity();
     float hi = -lo;
-    for (int j = begin; j < end; ++j) {
-      const float key = f.s * scratch.parallax[j];
-      lo = std::min(lo, key);
-      hi = std::max(hi, key);
+    if (count == kSecantBlock) {
+      for (int j = 0; j < kSecantBlock; ++j) {
+        lo = std::min(lo, f.s * parallax[j]);
+        hi = std::max(hi, f.s * parallax[j]);
+      }
+    } else {
+      for (int j = 0; j < count; ++j) {
+        lo = std::min(lo, f.s * parallax[j]);
+        hi = std::max(hi, f.s * parallax[j]);
+      }
     }
     lowest[k] = lo;
     highest[k] = hi;
@@ -79,8 +87,7 @@ KeyBounds reachable_keys(const Frame& f, const RowScratch& scratch, int t_begin,
     const int blocks = (f.source_width + kSecantBlock - 1) / kSecantBlock;
     const int first = column_lo / kSecantBlock;
     const int last_block = column_hi / kSecantBlock;
-    int level = 0;
-    while ((2 << level) <= last_block - first + 1) ++level;
+    const int level = 31 - __builtin_clz(static_cast<unsigned>(last_block - first + 1));  // floor(log2(count))
     const std::size_t row = static_cast<std::size_t>(level) * static_cast<std::size_t>(blocks);
     for (const int k : {first, last_block + 1 - (1 << level)}) {
       include(scratch.block_min[row + k]);
