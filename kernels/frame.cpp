@@ -112,6 +112,7 @@ void prepare_scratch(const Frame& f, RowScratch& scratch) {
   if (scratch.source_x.size() < static_cast<std::size_t>(f.target_width)) {
     scratch.source_x.resize(f.target_width);
     scratch.clipped.resize(f.target_width);
+    scratch.owner_storage.resize(static_cast<std::size_t>(f.target_width) + 2 * kOwnerPad);
   }
   // `secant` sizes its block table itself on first use; doing it here keeps that first use from
   // allocating inside a row on whichever thread happens to run it.
