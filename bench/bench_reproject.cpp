@@ -42,7 +42,7 @@ struct Size {
   int width;
   int height;
 };
-constexpr Size kSizes[] = {{480, 270}, {1280, 720}, {1920, 1080}, {3840, 2160}};
+constexpr Size kSizes[] = {{1280, 720}, {1920, 1080}, {3840, 2160}};
 constexpr Size kFullHd = {1920, 1080};
 // Small enough that depth, one colour plane and all outputs (17 B/px, 4.5 MB) stay in L2/L3:
 // the kernels' arithmetic speed without the memory wall.

@@ -446,7 +446,9 @@ def write_page(data, json_path, doc_path):
         fmt(r.mpix(rf1)), fmt(r.gbs(rf1), 1), fmt(r.ms(rf1), 2), fmt(r.mpix(rf2)), fmt(r.gbs(rf2), 1), fmt(r.ms(rf2), 2)))
     w("\"1T on CPU time\" recomputes the 1-thread rate from the calling thread's CPU time instead of the")
     w("wall time: on this shared machine it is the rate the kernel reaches when it has the core to itself.")
-    w("Every other column, and every target, uses wall time.")
+    w("Every other column, and every target, uses wall time. The `scalar` rows are what `Arch::scalar` runs")
+    w("on this CPU: the scalar references built with AVX2 + FMA flags at -O3 (hardware fma and floor; the")
+    w("compiler may vectorise their simplest loops), i.e. a user's own scalar port built with -march=native.")
     w("")
     rows = []
     for method in METHODS:
