@@ -401,7 +401,20 @@ void register_all() {
   for (Arch arch : kArchs)
     if (arch_supported(arch)) archs.push_back(arch);
 
-  // Size scaling, planar RGBA, with the roofline of each size next to it.
+  // Every method on every arch at each thread count, from a template case.
+  auto register_methods = [&](Case c, const std::string& suffix) {
+    for (int threads : kThreadCounts) {
+      for (Method method : kMethods) {
+        for (Arch arch : archs) {
+          c.method = method;
+          c.arch = arch;
+          c.threads = threads;
+          register_case(c, suffix);
+        }
+      }
+    }
+  };
+  // Size scaling, planar RGBA: per size and thread count, the roofline just before the methods.
   for (Size size : kSizes) {
     for (int threads : kThreadCounts) {
       register_roofline(size, threads, Layout::planar_rgba, "");
@@ -419,44 +432,17 @@ void register_all() {
   }
   // Separation sweep at 1080p.
   for (int separation : kSeparations) {
-    for (int threads : kThreadCounts) {
-      for (Method method : kMethods) {
-        for (Arch arch : archs) {
-          Case c;
-          c.method = method;
-          c.arch = arch;
-          c.threads = threads;
-          c.separation_px = separation;
-          register_case(c, "/sep:" + std::to_string(separation));
-        }
-      }
-    }
+    Case c;
+    c.separation_px = separation;
+    register_methods(c, "/sep:" + std::to_string(separation));
   }
   // Interleaved RGBA and centre -> both eyes, 1080p.
-  for (int threads : kThreadCounts) {
-    for (Method method : kMethods) {
-      for (Arch arch : archs) {
-        Case c;
-        c.method = method;
-        c.arch = arch;
-        c.threads = threads;
-        c.layout = Layout::interleaved_rgba;
-        register_case(c, "/rgba");
-      }
-    }
-  }
-  for (int threads : kThreadCounts) {
-    for (Method method : kMethods) {
-      for (Arch arch : archs) {
-        Case c;
-        c.method = method;
-        c.arch = arch;
-        c.threads = threads;
-        c.pair = true;
-        register_case(c, "");
-      }
-    }
-  }
+  Case interleaved;
+  interleaved.layout = Layout::interleaved_rgba;
+  register_methods(interleaved, "/rgba");
+  Case pair;
+  pair.pair = true;
+  register_methods(pair, "");
   // In cache: one colour plane at 512x512, march16 on every arch.
   register_roofline(kInCache, 1, Layout::grey, "/grey");
   for (Arch arch : archs) {
