@@ -19,8 +19,25 @@ namespace {
 // or passes: t' >= j + p when b < 0, t' > j + p when b > 0 (segments cover [q(j), q(j+1)) and
 // (q(j), q(j+1)] respectively). Decided on the integer t' - j against p, so it is exact and agrees
 // bit for bit with the gather's sign test (t' - j) - p at a column.
+// `Upwards`: b < 0 (the sweep walks columns upwards).
+template <bool Upwards>
+inline int first_target_reached(int column, float p) {
+  return column + static_cast<int>(Upwards ? std::ceil(p) : std::floor(p) + 1.0f);
+}
 inline int first_target_reached(const Frame& f, int column, float p) {
-  return column + static_cast<int>(f.s < 0.0f ? std::ceil(p) : std::floor(p) + 1.0f);
+  return f.s < 0.0f ? first_target_reached<true>(column, p) : first_target_reached<false>(column, p);
+}
+
+// Source x of target pixel t painted by an edge extension whose surface has parallax p.
+inline float extension_x(const Frame& f, int t, float p) {
+  return static_cast<float>(t) + static_cast<float>(f.guard) - p;
+}
+// Fraction along segment [j, j+1] (parallax p0 at j, length = 1 + (p1 - p0)) of target pixel t:
+// frac = (t' - q0) / (q1 - q0) with q = column + p, arranged so that (t' - j) and (p1 - p0) are
+// exact: one rounding on each side of the division. Clamped, for the degenerate case where the
+// length rounds to 0.
+inline float segment_frac(const Frame& f, int t, int j, float p0, float length) {
+  return std::clamp((static_cast<float>(t + f.guard - j) - p0) / length, 0.0f, 1.0f);
 }
 
 template <class Fma>
@@ -53,18 +70,15 @@ inline void sweep_row(const Frame& f, RowScratch& scratch) {
   auto paint_extension = [&](int column, int begin, int end) {
     const float p = parallax[column];
     if (may_clip && f.s * p > f.key_near) return;
-    for (int t = begin; t < end; ++t) xs[t] = static_cast<float>(t) + guard - p;
+    for (int t = begin; t < end; ++t) xs[t] = extension_x(f, t, p);
   };
   // Segment [j, j+1] onto targets [begin, end); empty for a fold-over (a back face).
   auto paint_segment = [&](int j, int begin, int end) {
     const float p0 = parallax[j];
     const float p1 = parallax[j + 1];
-    // frac = (t' - q0) / (q1 - q0) with q = column + p, arranged so that (t' - j) and (p1 - p0)
-    // are exact: one rounding on each side of the division. Clamped, for the degenerate case
-    // where the length rounds to 0.
     const float length = 1.0f + (p1 - p0);
     for (int t = begin; t < end; ++t) {
-      const float frac = std::clamp((static_cast<float>(t + f.guard - j) - p0) / length, 0.0f, 1.0f);
+      const float frac = segment_frac(f, t, j, p0, length);
       if (may_clip && f.s * madd<Fma>(frac, p1 - p0, p0) > f.key_near) continue;
       xs[t] = static_cast<float>(j) + frac;
     }

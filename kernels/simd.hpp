@@ -365,7 +365,7 @@ float simd_nearest_key(const Frame& f, const float* depth) {
 constexpr int kMarchChunk = 16;
 
 template <class Arch, class Fma, bool Positive>
-void simd_march_rows(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax) {
+void simd_march_row(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax) {
   using F = typename Lanes<Arch>::F;
   using B = typename Lanes<Arch>::B;
   constexpr int L = Lanes<Arch>::size;
@@ -414,8 +414,8 @@ void simd_march(const Frame& f, RowScratch& scratch) {
     sample_parallax[k] = madd<Fma>(static_cast<float>(k), f.march_step, f.p_near);
     sample_offset[k] = point_offset(sample_parallax[k]);
   }
-  if (f.s > 0.0f) simd_march_rows<Arch, Fma, true>(f, scratch, sample_offset, sample_parallax);
-  else simd_march_rows<Arch, Fma, false>(f, scratch, sample_offset, sample_parallax);
+  if (f.s > 0.0f) simd_march_row<Arch, Fma, true>(f, scratch, sample_offset, sample_parallax);
+  else simd_march_row<Arch, Fma, false>(f, scratch, sample_offset, sample_parallax);
 }
 
 // ---- single (scalar twin: search_row_single) ----
@@ -563,18 +563,11 @@ void simd_secant(const Frame& f, RowScratch& scratch) {
 constexpr int kLeftExtension = -1;   // owner codes of the two edge extensions
 constexpr int kRightExtension = -2;
 
-// Source x of target pixel t painted by `owner`: paint_extension() and paint_segment() of
-// exact_sweep.hpp (without clipping), for the tail.
+// Source x of target pixel t painted by `owner` (the scalar sweep's arithmetic), for the tail.
 inline float exact_x_from_owner(const Frame& f, const float* parallax, int t, int owner) {
-  if (owner < 0) {
-    const float p = parallax[owner == kLeftExtension ? 0 : f.source_width - 1];
-    return static_cast<float>(t) + static_cast<float>(f.guard) - p;
-  }
+  if (owner < 0) return extension_x(f, t, parallax[owner == kLeftExtension ? 0 : f.source_width - 1]);
   const float p0 = parallax[owner];
-  const float p1 = parallax[owner + 1];
-  const float length = 1.0f + (p1 - p0);
-  const float frac = std::clamp((static_cast<float>(t + f.guard - owner) - p0) / length, 0.0f, 1.0f);
-  return static_cast<float>(owner) + frac;
+  return static_cast<float>(owner) + segment_frac(f, t, owner, p0, 1.0f + (parallax[owner + 1] - p0));
 }
 
 template <class Arch, class Fma>
@@ -598,8 +591,8 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
   // always paints again (the reaches from there run on to the far extension).
   const I left_code(kLeftExtension), right_code(kRightExtension);
   if (f.s < 0.0f) {  // columns upwards; spills land above a segment
-    auto reach = [&](int column) {  // first_target_reached() for b < 0, clamped to the row
-      return std::clamp(column + static_cast<int>(std::ceil(parallax[column])) - f.guard, 0, width);
+    auto reach = [&](int column) {
+      return std::clamp(first_target_reached<true>(column, parallax[column]) - f.guard, 0, width);
     };
     int begin = reach(0);
     for (int t = 0; t < begin; t += L) left_code.store_unaligned(owner + t);
@@ -612,8 +605,8 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
     }
     for (int t = begin; t < width; t += L) right_code.store_unaligned(owner + t);
   } else {  // columns downwards; spills land below a segment
-    auto reach = [&](int column) {  // first_target_reached() for b > 0, clamped to the row
-      return std::clamp(column + static_cast<int>(std::floor(parallax[column]) + 1.0f) - f.guard, 0, width);
+    auto reach = [&](int column) {
+      return std::clamp(first_target_reached<false>(column, parallax[column]) - f.guard, 0, width);
     };
     int end = reach(last);
     for (int t = width; t > end; t -= L) right_code.store_unaligned(owner + t - L);
