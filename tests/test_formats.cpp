@@ -39,6 +39,7 @@
 #include "imageio/imageio.hpp"
 #include "imageio/stereo_views.hpp"
 #include "reproject/image.hpp"
+#include "support/files.hpp"
 
 namespace {
 
@@ -70,19 +71,6 @@ struct TempFile {
   TempFile& operator=(const TempFile&) = delete;
   std::string path;
 };
-
-// Files beside `path` whose name starts with its name (left-over temporary files), not `path`.
-int leftovers(const std::string& path) {
-  const std::filesystem::path target(path);
-  const std::string prefix = target.filename().string();
-  int count = 0;
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(target.parent_path(), error)) {
-    const std::string name = entry.path().filename().string();
-    if (name != prefix && name.compare(0, prefix.size(), prefix) == 0) ++count;
-  }
-  return count;
-}
 
 std::vector<unsigned char> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -160,7 +148,7 @@ TEST(Pfm, RoundTripThreeChannelsBothByteOrders) {
     EXPECT_EQ(loaded.format, io::FileFormat::pfm);
     EXPECT_EQ(loaded.bit_depth, 32);
     expect_same_bits(image, loaded.image);
-    EXPECT_EQ(leftovers(file.path), 0);
+    EXPECT_EQ(rptest::leftovers(file.path), 0);
   }
 }
 
@@ -257,7 +245,7 @@ TEST(Pfm, BadFilesAreErrorsWithClearMessages) {
   EXPECT_EQ(refused.error, io::IoError::unsupported) << refused.message;
   EXPECT_TRUE(contains(refused.message, "unsupported channel layout")) << refused.message;
   EXPECT_FALSE(std::filesystem::exists(out.path));
-  EXPECT_EQ(leftovers(out.path), 0);
+  EXPECT_EQ(rptest::leftovers(out.path), 0);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -317,7 +305,7 @@ TEST(Exr, RoundTripFloatRgbaAndZ) {
   const FloatPlane depth_plane = depth.plane(0);
   const io::IoStatus written = io::write_exr(file.path, color.color(), &depth_plane);
   ASSERT_TRUE(written.ok()) << written.message;
-  EXPECT_EQ(leftovers(file.path), 0);
+  EXPECT_EQ(rptest::leftovers(file.path), 0);
 
   io::LoadedImage loaded;
   const io::IoStatus read = io::read_exr(file.path, &loaded);
@@ -677,7 +665,7 @@ TEST(Exr, WriteErrors) {
   status = io::write_exr(file.path, color.color(), &depth_ok_plane, clash);
   EXPECT_EQ(status.error, io::IoError::invalid_argument) << status.message;
   EXPECT_FALSE(std::filesystem::exists(file.path));
-  EXPECT_EQ(leftovers(file.path), 0);
+  EXPECT_EQ(rptest::leftovers(file.path), 0);
 
   // Into a directory that does not exist: nothing is left anywhere.
   status = io::write_exr(temp_path("missing-dir") + "/out.exr", color.color());
@@ -767,7 +755,7 @@ TEST(Formats, PlanesOfDifferentSizesAreRefusedByEveryWriter) {
     EXPECT_EQ(status.error, io::IoError::size_mismatch) << extension << ": " << status.message;
     EXPECT_TRUE(contains(status.message, "size mismatch: plane 1 is 4x2, plane 0 is 4x3")) << status.message;
     EXPECT_FALSE(std::filesystem::exists(file.path));
-    EXPECT_EQ(leftovers(file.path), 0);
+    EXPECT_EQ(rptest::leftovers(file.path), 0);
   }
 }
 

@@ -38,6 +38,7 @@
 
 #include "imageio/imageio.hpp"
 #include "reproject/reproject.hpp"
+#include "support/files.hpp"
 
 namespace {
 
@@ -371,20 +372,6 @@ std::string temp_path(const std::string& tag) {
   return ::testing::TempDir() + "reproject_imageio_" + info->name() + "_" + std::to_string(ticks) + "_" + tag;
 }
 
-// Files in the directory of `path` whose name starts with the name of `path` (left-over
-// temporary files of a write to `path`), excluding `path` itself.
-int leftovers(const std::string& path) {
-  const std::filesystem::path target(path);
-  const std::string prefix = target.filename().string();
-  int count = 0;
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(target.parent_path(), error)) {
-    const std::string name = entry.path().filename().string();
-    if (name != prefix && name.compare(0, prefix.size(), prefix) == 0) ++count;
-  }
-  return count;
-}
-
 std::vector<char> file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -429,14 +416,14 @@ TEST(ImageIo, RoundTrip8BitRgb) {
       }
     }
   }
-  EXPECT_EQ(leftovers(path), 0);
+  EXPECT_EQ(rptest::leftovers(path), 0);
 
   // Writing again replaces the file.
   Image black(2, 2, 3);
   ASSERT_TRUE(io::write_png(path, black.color(), 8).ok());
   ASSERT_TRUE(io::read_png(path, &loaded).ok());
   EXPECT_EQ(loaded.image.width(), 2);
-  EXPECT_EQ(leftovers(path), 0);
+  EXPECT_EQ(rptest::leftovers(path), 0);
   std::remove(path.c_str());
 }
 
@@ -553,7 +540,7 @@ TEST(ImageIo, FailedWritesLeaveNothingBehind) {
   ASSERT_TRUE(std::filesystem::create_directory(directory));
   status = io::write_png(directory, image.color(), 8);
   EXPECT_EQ(status.error, io::IoError::write_failed) << status.message;
-  EXPECT_EQ(leftovers(directory), 0);
+  EXPECT_EQ(rptest::leftovers(directory), 0);
   EXPECT_TRUE(std::filesystem::is_directory(directory));
   std::filesystem::remove(directory);
 
@@ -562,7 +549,7 @@ TEST(ImageIo, FailedWritesLeaveNothingBehind) {
   EXPECT_EQ(io::write_png(path, image.color(), 12).error, io::IoError::invalid_argument);
   EXPECT_EQ(io::write_png(path, reproject::ColorView{}, 8).error, io::IoError::invalid_argument);
   EXPECT_FALSE(std::filesystem::exists(path));
-  EXPECT_EQ(leftovers(path), 0);
+  EXPECT_EQ(rptest::leftovers(path), 0);
   EXPECT_EQ(io::read_png(path, nullptr).error, io::IoError::invalid_argument);
 }
 
