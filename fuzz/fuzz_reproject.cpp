@@ -33,6 +33,7 @@
 
 #include "kernels/dispatch.hpp"
 #include "reproject/reproject.hpp"
+#include "tests/support/arch_report.hpp"
 
 namespace {
 
@@ -382,6 +383,12 @@ bool known_code(StatusCode code) {
 }
 
 }  // namespace
+
+// Once per process: which instruction sets the every-arch check below can really run here.
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  std::fprintf(stderr, "%s\n", reproject::arch_report("fuzz_reproject").c_str());
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzedDataProvider in(data, size);

@@ -1,6 +1,7 @@
 // Which instruction set runs: the best one the CPU *and* the operating system support, chosen
 // once, unless REPROJECT_FORCE_ARCH names another supported one. xsimd 8.1 checks CPUID but not
 // whether the OS saves the wide registers, so XGETBV is checked here.
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -62,15 +63,30 @@ bool cpu_supports(Arch arch) {
 #endif
 }
 
-Arch choose() {
-  if (const char* forced = std::getenv("REPROJECT_FORCE_ARCH")) {
-    Arch arch;
-    if (parse_arch(forced, &arch) && arch_supported(arch)) return arch;
-  }
+Arch best_supported() {
   for (Arch arch : {Arch::avx512, Arch::avx2, Arch::sse}) {
     if (arch_supported(arch)) return arch;
   }
   return Arch::scalar;
+}
+
+// Runs once per process. A forced set that is unknown or that this CPU cannot run is said on
+// stderr (once), so that nobody reads a run as covering a set it did not execute.
+Arch choose() {
+  const Arch best = best_supported();
+  if (const char* forced = std::getenv("REPROJECT_FORCE_ARCH")) {
+    Arch arch;
+    if (!parse_arch(forced, &arch)) {
+      std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH='%s' is not one of scalar, sse, avx2, avx512; using %s\n",
+                   forced, to_string(best));
+    } else if (!arch_supported(arch)) {
+      std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH=%s is not supported by this CPU; using %s\n", forced,
+                   to_string(best));
+    } else {
+      return arch;
+    }
+  }
+  return best;
 }
 
 }  // namespace

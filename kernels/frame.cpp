@@ -80,7 +80,9 @@ bool near_pass_needed(const Frame& f) {
 }
 
 void set_near_key(Frame& f, float key_near) {
-  f.key_near = key_near;
+  // + 0: a nearest key of zero is +0 whichever zero a max reduction happened to keep (std::max and
+  // the vector max instructions keep different operands on ties), so every arch plans alike.
+  f.key_near = key_near + 0.0f;
   f.p_near = f.s * f.key_near;
   f.march_step = (f.p_far - f.p_near) / static_cast<float>(f.march_steps);
 

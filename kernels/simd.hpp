@@ -34,13 +34,27 @@ struct Lanes {
   static constexpr int size = static_cast<int>(F::size);
 };
 
-// The FMA policy of frame.hpp, on vectors.
+// The FMA policy of frame.hpp, on vectors. The fused form names the instruction for each width
+// instead of calling xsimd::fma: xsimd 8.1 has no fma kernel for avx512f, and there xsimd::fma
+// falls back to the generic x * y + z (two roundings under -ffp-contract=off), which silently broke
+// bit-identity on AVX-512. A width without an FMA instruction in this TU does not compile.
+// tests/check_object_code.cmake holds every fused object to vector FMAs of its width.
 template <class Fma, class F>
 F vmadd(const F& a, const F& b, const F& c) {
-  if constexpr (std::is_same<Fma, Fused>::value) {
-    return xsimd::fma(a, b, c);
-  } else {
+  if constexpr (!std::is_same<Fma, Fused>::value) {
     return a * b + c;
+#if defined(__AVX512F__)
+  } else if constexpr (sizeof(F) == 64) {
+    return _mm512_fmadd_ps(a, b, c);
+#endif
+#if defined(__FMA__)
+  } else if constexpr (sizeof(F) == 32) {
+    return _mm256_fmadd_ps(a, b, c);
+  } else if constexpr (sizeof(F) == 16) {
+    return _mm_fmadd_ps(a, b, c);
+#endif
+  } else {
+    static_assert(!std::is_same<F, F>::value, "the fused policy needs an FMA instruction of this width");
   }
 }
 
@@ -78,28 +92,36 @@ xsimd::batch<float, Arch> gather_at(const float* base, const xsimd::batch<float,
   return gather<Arch>(base, xsimd::to_int(index));
 }
 
-// Horizontal minimum / maximum of a vector.
-template <class Arch>
-float lane_min(const xsimd::batch<float, Arch>& v) {
+// Horizontal minimum (Max false) or maximum (Max true) of a vector, with the min/max instructions
+// themselves. (The maximum is not written -lane_min(-v): xsimd 8.1's avx512f negation is 0 - x,
+// which turns a +0 lane into +0 instead of -0. Which zero a reduction of +0 and -0 returns depends
+// on the order; set_near_key makes the frame's nearest key +0 in that case.)
+template <class Arch, bool Max>
+float lane_extreme(const xsimd::batch<float, Arch>& v) {
 #if defined(__AVX512F__)
-  if constexpr (std::is_base_of<xsimd::avx512f, Arch>::value) return _mm512_reduce_min_ps(v);
+  if constexpr (std::is_base_of<xsimd::avx512f, Arch>::value) return Max ? _mm512_reduce_max_ps(v) : _mm512_reduce_min_ps(v);
 #endif
 #if defined(__AVX2__)
   if constexpr (std::is_base_of<xsimd::avx2, Arch>::value) {
-    __m256 m = _mm256_min_ps(v, _mm256_permute2f128_ps(v, v, 1));
-    m = _mm256_min_ps(m, _mm256_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
-    m = _mm256_min_ps(m, _mm256_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+    auto op = [](__m256 x, __m256 y) { return Max ? _mm256_max_ps(x, y) : _mm256_min_ps(x, y); };
+    __m256 m = op(v, _mm256_permute2f128_ps(v, v, 1));
+    m = op(m, _mm256_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+    m = op(m, _mm256_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
     return _mm256_cvtss_f32(m);
   }
 #endif
   constexpr int L = Lanes<Arch>::size;
   alignas(64) float lanes[L];
   v.store_aligned(lanes);
-  return *std::min_element(lanes, lanes + L);
+  return Max ? *std::max_element(lanes, lanes + L) : *std::min_element(lanes, lanes + L);
+}
+template <class Arch>
+float lane_min(const xsimd::batch<float, Arch>& v) {
+  return lane_extreme<Arch, false>(v);
 }
 template <class Arch>
 float lane_max(const xsimd::batch<float, Arch>& v) {
-  return -lane_min<Arch>(-v);
+  return lane_extreme<Arch, true>(v);
 }
 
 // The resolve stage's data-dependent reads (DESIGN §6 SIMD hints). On smooth surfaces a vector's

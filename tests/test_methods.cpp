@@ -263,6 +263,62 @@ Slant make_slant(SourceFrame& src, const Encoding& enc, const ParallaxModel& mod
   return slant;
 }
 
+// --------------------------------------------------------------------------------------------
+// Vector body and scalar tail: every SIMD kernel runs whole vectors, then its scalar reference on
+// the last W mod L columns. Where the two round differently, a flat plane's parallax steps at the
+// boundary and tau = 0 sees a wall (AVX-512 once decoded its body unfused and its tail fused).
+// Widths put the boundary on every lane count (4, 8, 16) and one either side of it; the planes
+// are flat and slanted with P decreasing (p[j+1] - p[j] <= 0: no wall at tau = 0), every arch.
+// --------------------------------------------------------------------------------------------
+
+class BodyAndTail : public ::testing::TestWithParam<reproject::Arch> {};
+
+TEST_P(BodyAndTail, ZeroThresholdSeesNoWallOnFlatOrSlantedPlanes) {
+  const reproject::Arch arch = GetParam();
+  if (!reproject::arch_supported(arch)) GTEST_SKIP() << reproject::to_string(arch) << " is not supported by this CPU";
+  const int widths[] = {3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 32, 33, 63, 64, 65, 127, 128, 129};
+  long runs = 0, walls = 0;
+  for (int width : widths) {
+    for (const Encoding& enc : {linear_encoding(), standard_encoding()}) {
+      for (EyeDirection dir : kDirections) {
+        const ParallaxModel model = ParallaxModel::from_stereo(0.06, 2.0, std::max(width, 40), dir);
+        for (double k : {0.0, -0.3}) {
+          SourceFrame src = rptest::make_source(width, 2, 1);
+          const Slant slant = make_slant(src, enc, model, k);
+          for (Method method : kAllMethods) {
+            Options options;
+            options.method = method;
+            options.arch = arch;
+            options.hole_threshold = 0.0f;
+            const RunResult r = rptest::run(src, enc.decoder(), model, options);
+            const std::string ctx = context(method, dir, enc, "width " + std::to_string(width) + (k == 0.0 ? " flat" : " slanted") +
+                                                                  " " + reproject::to_string(arch));
+            ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
+            ++runs;
+            Tally tally;
+            for (int y = 0; y < 2; ++y) {
+              for (int t = 0; t < width; ++t) {
+                const double x = slant.crossing(t, width);
+                if (x > 1e-3 && x < width - 1 - 1e-3) check_status(tally, ctx.c_str(), r, t, y, kHit);
+              }
+            }
+            walls += tally.count();
+            EXPECT_EQ(tally.count(), 0) << ctx << tally.report();
+          }
+        }
+      }
+    }
+  }
+  std::printf("%s: %ld runs at body/tail widths, %ld wall pixels at tau = 0\n", reproject::to_string(arch), runs, walls);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryArch, BodyAndTail,
+                         ::testing::Values(reproject::Arch::scalar, reproject::Arch::sse, reproject::Arch::avx2,
+                                           reproject::Arch::avx512),
+                         [](const ::testing::TestParamInfo<reproject::Arch>& info) {
+                           return std::string(reproject::to_string(info.param));
+                         });
+
 TEST(AnalyticSlanted, ScanlineSecantExactWithinAHundredthOfThePlaneCrossing) {
   const int width = 160;
   for (const Encoding& enc : {linear_encoding(), standard_encoding()}) {

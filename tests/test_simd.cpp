@@ -13,6 +13,7 @@
 
 #include "kernels/dispatch.hpp"
 #include "reproject/reproject.hpp"
+#include "support/arch_report.hpp"
 
 namespace reproject {
 namespace {
@@ -119,7 +120,9 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
 #endif
   std::mt19937 rng(static_cast<unsigned>(arch) * 7919u + 17u);
   const int L = 16;  // the widest vector: covers every narrower one's tails too
-  const int widths[] = {1, 3, L - 1, L, L + 1, 5 * L + 3, 131};
+  // Awkward widths, and the vector body / scalar tail boundary on every lane count (4, 8, 16)
+  // and one either side of it.
+  const int widths[] = {1, 3, 4, 5, 7, 8, 9, L - 1, L, L + 1, 31, 32, 33, 63, 64, 65, 5 * L + 3, 127, 128, 129, 131};
   long runs = 0, mismatched = 0;
   for (int width : widths) {
     for (int variant = 0; variant < 8; ++variant) {
@@ -175,6 +178,15 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
 INSTANTIATE_TEST_SUITE_P(EveryArch, SimdMatchesScalar,
                          ::testing::Values(Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512),
                          [](const ::testing::TestParamInfo<Arch>& info) { return std::string(to_string(info.param)); });
+
+// The log line that says which instruction sets the every-arch tests really executed here (each
+// skipped one also says so in its own test). .ci/run prints it.
+TEST(EveryArch, WhatRan) {
+  const std::string line = arch_report("bit-identity");
+  std::printf("%s\n", line.c_str());
+  EXPECT_NE(line.find(to_string(selected_arch())), std::string::npos);
+  EXPECT_TRUE(arch_supported(Arch::scalar));
+}
 
 TEST(Dispatch, SelectedArchIsSupportedAndNamed) {
   const Arch arch = selected_arch();

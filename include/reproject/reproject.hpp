@@ -36,7 +36,8 @@ bool parse_arch(const char* name, Arch* out) noexcept;  // "scalar", "sse", "avx
 bool arch_supported(Arch arch) noexcept;
 // The instruction set calls use when Options::arch is unset: the best supported, chosen once, or
 // the one named by the environment variable REPROJECT_FORCE_ARCH (scalar|sse|avx2|avx512) when
-// it is supported.
+// it is supported. A forced name that is unknown or not supported here selects the best supported
+// set, and the first call says so in one line on stderr.
 Arch selected_arch() noexcept;
 
 // Per target pixel, in the optional status plane.
