@@ -124,18 +124,64 @@ float lane_max(const xsimd::batch<float, Arch>& v) {
   return lane_extreme<Arch, true>(v);
 }
 
+// Lane 0 of a vector, and a one-register permute (lane i takes v[index[i]]), for the widths that
+// have a variable permute instruction (AVX2: 8 lanes, AVX-512: 16).
+template <class Arch>
+constexpr bool kHasPermute =
+#if defined(__AVX512F__)
+    std::is_base_of<xsimd::avx512f, Arch>::value ||
+#endif
+#if defined(__AVX2__)
+    std::is_base_of<xsimd::avx2, Arch>::value ||
+#endif
+    false;
+
+template <class Arch>
+float first_lane(const xsimd::batch<float, Arch>& v) {
+  if constexpr (sizeof(v) == 16) {
+    return _mm_cvtss_f32(v);
+#if defined(__AVX__)
+  } else if constexpr (sizeof(v) == 32) {
+    return _mm256_cvtss_f32(v);
+#endif
+#if defined(__AVX512F__)
+  } else if constexpr (sizeof(v) == 64) {
+    return _mm512_cvtss_f32(v);
+#endif
+  } else {
+    static_assert(sizeof(v) == 16, "first_lane(): an unknown width");
+  }
+}
+
+template <class Arch>
+xsimd::batch<float, Arch> permute(const xsimd::batch<float, Arch>& v, const xsimd::batch<std::int32_t, Arch>& index) {
+  static_assert(kHasPermute<Arch>, "permute() needs AVX2 or AVX-512");
+#if defined(__AVX512F__)
+  if constexpr (sizeof(v) == 64) return _mm512_permutexvar_ps(index, v);
+#endif
+#if defined(__AVX2__)
+  if constexpr (sizeof(v) == 32) return _mm256_permutevar8x32_ps(v, index);
+#endif
+}
+
 // The resolve stage's data-dependent reads (DESIGN §6 SIMD hints). On smooth surfaces a vector's
 // source columns are nearly consecutive, so contiguous loads and permutes replace the gathers,
 // which are much slower (on AVX2 and AVX-512). The same two column sets are read from every plane
-// of the row, so the plan is made once per vector and the lane indices once per column set:
-//  * `consecutive` (AVX2): first[i] = base + i and second[i] = base + i + 1 (a surface at constant
+// of the row, so the plan is made once per vector and the lane indices once per column set.
+// Modes, on AVX2 and AVX-512 alike (SSE has no variable permute: it gathers):
+//  * `consecutive`: first[i] = base + i and second[i] = base + i + 1 (a surface at constant
 //    parallax): two plain loads;
-//  * `shifted` (AVX2): first[i] within L columns from `base`, and second[i] within L columns from
+//  * `shifted`: first[i] within L columns from `base`, and second[i] within L columns from
 //    base + 1 (second = first + 1 except at the row end and in hole fills): two loads, one
 //    permute each;
 //  * `spanning`: both sets within 2L columns from `base`: two loads and a two-register permute
 //    per set (one instruction on AVX-512; on AVX2 two permutes and a blend);
 //  * otherwise hardware gathers.
+// The calling thread's FetchModeCounts of this table (this TU's copy: the namespace is anonymous).
+// initial-exec: one fs-relative add per vector, not a __tls_get_addr call.
+__attribute__((tls_model("initial-exec"))) inline thread_local FetchModeCounts t_fetch_modes{};
+inline FetchModeCounts* fetch_modes_of_thread() { return &t_fetch_modes; }
+
 template <class Arch>
 class ColumnFetch {
  public:
@@ -161,54 +207,13 @@ class ColumnFetch {
 
   // (Re)plans for new column sets (hole fills).
   void bind(const F& first, const F& second) {
-    mode_ = Mode::gather;
-#if defined(__AVX2__)
-    if constexpr (kAvx2) {
-      // Lane i reads column base + i (and base + i + 1): plain loads, nothing to permute. Tested
-      // from lane 0 first, without a reduction: the common case on smooth surfaces.
-      const float first_lane = _mm256_cvtss_f32(first);
-      const F lanes = F(first_lane) + lane_offsets<Arch>();
-      base_ = static_cast<int>(first_lane);
-      if (base_ + L < row_length_ && xsimd::all((first == lanes) & (second == lanes + F(1.0f)))) {
-        mode_ = Mode::consecutive;
-        return;
-      }
-    }
-#endif
-    if constexpr (kAvx512 || kAvx2) {
-      const float lowest = lane_min<Arch>(first);
-      base_ = static_cast<int>(lowest);
-      const F from_base = first - F(lowest);
-      const F second_from_base = second - F(lowest);
-      if constexpr (kAvx2) {
-        if (base_ + L < row_length_ &&
-            xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
-                       (second_from_base <= F(static_cast<float>(L))))) {
-          mode_ = Mode::shifted;
-          first_ = xsimd::to_int(from_base);
-          second_ = xsimd::to_int(second_from_base - F(1.0f));
-          return;
-        }
-      }
-      if (base_ + 2 * L <= row_length_ && xsimd::all(second_from_base < F(static_cast<float>(2 * L)))) {
-        mode_ = Mode::spanning;
-        first_ = xsimd::to_int(from_base);
-        second_ = xsimd::to_int(second_from_base);
-#if defined(__AVX2__)
-        if constexpr (kAvx2) {
-          first_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(first_, _mm256_set1_epi32(L - 1)));
-          second_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(second_, _mm256_set1_epi32(L - 1)));
-        }
-#endif
-        return;
-      }
-    }
-    first_ = xsimd::to_int(first);
-    second_ = xsimd::to_int(second);
+    mode_ = plan(first, second);
+    ++t_fetch_modes.vectors[static_cast<int>(mode_)];
   }
 
-
-  enum class Mode { gather, consecutive, shifted, spanning };
+  // The order of FetchModeCounts.
+  enum class Mode { consecutive, shifted, spanning, gather };
+  Mode mode() const { return mode_; }
 
   // A row's values at both column sets.
   void fetch(const float* row, F& at_first, F& at_second) const {
@@ -229,6 +234,45 @@ class ColumnFetch {
   }
 
  private:
+  Mode plan(const F& first, const F& second) {
+    if constexpr (kHasPermute<Arch>) {
+      // Lane i reads column base + i (and base + i + 1): plain loads, nothing to permute. Tested
+      // from lane 0 first, without a reduction: the common case on smooth surfaces.
+      const float lane0 = first_lane<Arch>(first);
+      const F lanes = F(lane0) + lane_offsets<Arch>();
+      base_ = static_cast<int>(lane0);
+      if (base_ + L < row_length_ && xsimd::all((first == lanes) & (second == lanes + F(1.0f)))) {
+        return Mode::consecutive;
+      }
+      const float lowest = lane_min<Arch>(first);
+      base_ = static_cast<int>(lowest);
+      const F from_base = first - F(lowest);
+      const F second_from_base = second - F(lowest);
+      if (base_ + L < row_length_ &&
+          xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
+                     (second_from_base <= F(static_cast<float>(L))))) {
+        first_ = xsimd::to_int(from_base);
+        second_ = xsimd::to_int(second_from_base - F(1.0f));
+        return Mode::shifted;
+      }
+      if (base_ + 2 * L <= row_length_ && xsimd::all(second_from_base < F(static_cast<float>(2 * L)))) {
+        first_ = xsimd::to_int(from_base);
+        second_ = xsimd::to_int(second_from_base);
+#if defined(__AVX2__)
+        if constexpr (kAvx2) {
+          first_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(first_, _mm256_set1_epi32(L - 1)));
+          second_high_ = _mm256_castsi256_ps(_mm256_cmpgt_epi32(second_, _mm256_set1_epi32(L - 1)));
+        }
+#endif
+        return Mode::spanning;
+      }
+    }
+    first_ = xsimd::to_int(first);
+    second_ = xsimd::to_int(second);
+    return Mode::gather;
+  }
+
+
   template <Mode M>
   struct Fetch {
     const ColumnFetch* columns;
@@ -237,41 +281,37 @@ class ColumnFetch {
 
   template <Mode M>
   void fetch_as(const float* row, F& at_first, F& at_second) const {
-#if defined(__AVX2__)
-    if constexpr (kAvx2) {
+    if constexpr (kHasPermute<Arch>) {
       if constexpr (M == Mode::consecutive) {
         at_first = F::load_unaligned(row + base_);
         at_second = F::load_unaligned(row + base_ + 1);
         return;
       }
       if constexpr (M == Mode::shifted) {
-        at_first = _mm256_permutevar8x32_ps(F::load_unaligned(row + base_), first_);
-        at_second = _mm256_permutevar8x32_ps(F::load_unaligned(row + base_ + 1), second_);
+        at_first = permute<Arch>(F::load_unaligned(row + base_), first_);
+        at_second = permute<Arch>(F::load_unaligned(row + base_ + 1), second_);
         return;
       }
       if constexpr (M == Mode::spanning) {
-        // AVX2's permute reaches one register: permute both, then take each lane's own.
         const F low = F::load_unaligned(row + base_);
         const F high = F::load_unaligned(row + base_ + L);
-        at_first = _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, first_), _mm256_permutevar8x32_ps(high, first_),
-                                    first_high_);
-        at_second = _mm256_blendv_ps(_mm256_permutevar8x32_ps(low, second_), _mm256_permutevar8x32_ps(high, second_),
-                                     second_high_);
-        return;
-      }
-    }
-#endif
 #if defined(__AVX512F__)
-    if constexpr (kAvx512) {
-      if constexpr (M == Mode::spanning) {
-        const F low = F::load_unaligned(row + base_);
-        const F high = F::load_unaligned(row + base_ + L);
-        at_first = _mm512_permutex2var_ps(low, first_, high);
-        at_second = _mm512_permutex2var_ps(low, second_, high);
-        return;
+        if constexpr (kAvx512) {
+          at_first = _mm512_permutex2var_ps(low, first_, high);
+          at_second = _mm512_permutex2var_ps(low, second_, high);
+          return;
+        }
+#endif
+#if defined(__AVX2__)
+        if constexpr (kAvx2) {
+          // AVX2's permute reaches one register: permute both, then take each lane's own.
+          at_first = _mm256_blendv_ps(permute<Arch>(low, first_), permute<Arch>(high, first_), first_high_);
+          at_second = _mm256_blendv_ps(permute<Arch>(low, second_), permute<Arch>(high, second_), second_high_);
+          return;
+        }
+#endif
       }
     }
-#endif
     at_first = gather<Arch>(row, first_);
     at_second = gather<Arch>(row, second_);
   }
@@ -281,7 +321,7 @@ class ColumnFetch {
   int base_ = 0;
   I first_, second_;
 #if defined(__AVX2__)
-  __m256 first_high_ = _mm256_setzero_ps();  // `spanning`: lanes that come from the second load
+  __m256 first_high_ = _mm256_setzero_ps();  // `spanning` on AVX2: lanes that come from the second load
   __m256 second_high_ = _mm256_setzero_ps();
 #endif
 };
@@ -831,6 +871,7 @@ KernelTable make_simd_table(const char* name) {
   table.search[static_cast<int>(Method::secant)] = simd_secant<Arch, Fma>;
   table.search[static_cast<int>(Method::exact)] = simd_exact<Arch, Fma>;
   table.resolve = simd_resolve<Arch, Fma>;
+  table.fetch_mode_counts = fetch_modes_of_thread;
   return table;
 }
 

@@ -124,6 +124,9 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
   // and one either side of it.
   const int widths[] = {1, 3, 4, 5, 7, 8, 9, L - 1, L, L + 1, 31, 32, 33, 63, 64, 65, 5 * L + 3, 127, 128, 129, 131};
   long runs = 0, mismatched = 0;
+  // Vectors per column-fetch mode read by this thread (the runs below use one thread).
+  detail::FetchModeCounts* modes = simd.fetch_mode_counts ? simd.fetch_mode_counts() : nullptr;
+  const detail::FetchModeCounts modes_before = modes ? *modes : detail::FetchModeCounts{};
   for (int width : widths) {
     for (int variant = 0; variant < 8; ++variant) {
       Case c;
@@ -147,6 +150,7 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
             options.guard = c.guard;
             options.hole_fill = fill;
             options.edge = edge;
+            options.threads = 1;  // the fetch-mode counters are the calling thread's
             if (c.clip) options.max_negative_parallax = 1.5f;
             if (m == static_cast<int>(Method::secant) && variant % 2 == 1) options.secant_max_steps = 3;  // coarse steps + refinement
             // march16's samples run in chunks of 16: one sample, several chunks and a partial one.
@@ -171,6 +175,19 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
   }
   std::printf("%s: %ld runs, %ld differ from the scalar reference\n", to_string(arch), runs, mismatched);
   EXPECT_EQ(mismatched, 0);
+  if (modes) {
+    // Every fetch mode ran: plain loads, one permute, two-register permute (AVX2, AVX-512), gathers.
+    const char* names[4] = {"consecutive", "shifted", "spanning", "gather"};
+    const bool permutes = arch == Arch::avx2 || arch == Arch::avx512;
+    std::printf("%s: resolve vectors by fetch mode:", to_string(arch));
+    for (int m = 0; m < 4; ++m) {
+      const std::uint64_t n = modes->vectors[m] - modes_before.vectors[m];
+      std::printf(" %s %llu", names[m], static_cast<unsigned long long>(n));
+      if (permutes || m == 3) EXPECT_GT(n, 0u) << to_string(arch) << " never used the " << names[m] << " fetch";
+      else EXPECT_EQ(n, 0u) << to_string(arch) << " has no permute, yet used the " << names[m] << " fetch";
+    }
+    std::printf("\n");
+  }
 }
 
 // Arch::scalar: the scalar references built with AVX2 + FMA flags (what Arch::scalar runs on such
