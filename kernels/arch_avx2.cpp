@@ -1,7 +1,7 @@
 // AVX2 with FMA3 (xsimd's fma3<avx2>: plain avx2 would turn xsimd::fma into multiply + add).
 // Built with -mavx2 -mfma only.
 #include "kernels/dispatch.hpp"
-#include "kernels/simd.hpp"
+#include "kernels/simd_table.hpp"
 
 namespace reproject {
 namespace detail {

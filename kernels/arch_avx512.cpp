@@ -1,6 +1,6 @@
 // AVX-512 (xsimd 8.1's avx512bw). Built with -mavx512f -mavx512cd -mavx512dq -mavx512bw -mfma only.
 #include "kernels/dispatch.hpp"
-#include "kernels/simd.hpp"
+#include "kernels/simd_table.hpp"
 
 namespace reproject {
 namespace detail {

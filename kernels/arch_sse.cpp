@@ -1,6 +1,6 @@
 // The SSE4.1 baseline (no FMA instructions: the unfused policy). Built with -msse4.1 only.
 #include "kernels/dispatch.hpp"
-#include "kernels/simd.hpp"
+#include "kernels/simd_table.hpp"
 
 namespace reproject {
 namespace detail {

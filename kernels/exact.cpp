@@ -1,4 +1,5 @@
 // `exact` (DESIGN §5): the scalar table's forward sweep (kernels/exact_sweep.hpp).
+// Its SIMD twin: kernels/exact_simd.hpp.
 #include "kernels/exact_sweep.hpp"
 
 namespace reproject {

@@ -1,5 +1,5 @@
 // The plan every method shares (DESIGN §3–§5) and the row driver. The shared stages' scalar
-// references live in scalar_stages.cpp.
+// references live in stages.cpp.
 #include "kernels/frame.hpp"
 
 #include <algorithm>

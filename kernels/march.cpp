@@ -1,5 +1,6 @@
 // `march16` (DESIGN §6): march_steps + 1 point samples at equal parallax steps from p_near to
 // p_far; the first sample on or behind the surface is re-projected with its own parallax.
+// Its SIMD twin: kernels/march_simd.hpp.
 #include "kernels/frame.hpp"
 
 namespace reproject {

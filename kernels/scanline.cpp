@@ -2,6 +2,7 @@
 // sample on or behind the surface ends the march and the crossing is intersected linearly with
 // the previous sample. Samples sit on every integer column in between, so each bracket lies on
 // one linear piece of the surface: exact to rounding inside the allowed range. O(range).
+// Its SIMD twin: kernels/scanline_simd.hpp.
 #include "kernels/frame.hpp"
 
 namespace reproject {

@@ -7,6 +7,7 @@
 //    secant steps (Illinois variant, so one stuck end cannot stall it) to 1e-3 px.
 // The tile (16 pixels, whatever the SIMD width) is part of the definition, so every
 // implementation takes the same steps.
+// Its SIMD twin: kernels/secant_simd.hpp.
 #include <algorithm>
 #include <cmath>
 #include <limits>

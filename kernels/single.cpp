@@ -1,5 +1,6 @@
 // `single` (DESIGN §6): one point sample at the probe parallax (default: infinity, where the
 // background comes from), re-projected with its own parallax.
+// Its SIMD twin: kernels/single_simd.hpp.
 #include "kernels/frame.hpp"
 
 namespace reproject {

@@ -1,6 +1,7 @@
 // The scalar references of the shared stages (the per-row parallax decode, the near-limit
 // reduction and the resolve stage, DESIGN §5–§6 "One resolve stage for all") and the scalar
 // kernel table. Compiled twice, like every scalar reference (see frame.hpp).
+// Its SIMD twin: kernels/stages_simd.hpp.
 #include <algorithm>
 
 #include "kernels/frame.hpp"

@@ -1,0 +1,205 @@
+// SIMD twins of the shared stages of kernels/stages.cpp: the decode, the near end's pass and the
+// resolve.
+#pragma once
+
+#include "kernels/simd.hpp"
+
+namespace reproject {
+namespace detail {
+namespace {  // one copy per arch TU (kernels/simd.hpp)
+
+// ---- decode (scalar twin: decode_parallax_columns) ----
+
+template <class Arch, class Fma>
+void simd_decode(const Frame& f, const float* depth, float* parallax) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
+  const F key_far(f.key_far), p_far(f.p_far), limit(f.limit), near_bound(f.s * f.limit), one(1.0f);
+  int i = 0;
+  for (; i + L <= f.source_width; i += L) {
+    const F d = F::load_unaligned(depth + i);
+    F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+    const F key = s * p;
+    p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
+    p = xsimd::select(key > limit, near_bound, p);
+    p.store_unaligned(parallax + i);
+  }
+  decode_parallax_columns<Fma>(f, depth, parallax, i, f.source_width);
+}
+
+// The default near end's pass (scalar twin: nearest_key_in_columns): the same decode, reduced
+// with max (order-independent, and no NaN survives the decode, so any order gives the same bits).
+template <class Arch, class Fma>
+float simd_nearest_key(const Frame& f, const float* depth) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
+  const F key_far(f.key_far), limit(f.limit), one(1.0f);
+  F nearest = key_far;
+  int i = 0;
+  for (; i + L <= f.source_width; i += L) {
+    const F d = F::load_unaligned(depth + i);
+    const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+    const F key = s * p;
+    // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
+    nearest = xsimd::max(nearest, xsimd::select(key >= key_far, xsimd::min(key, limit), key_far));
+  }
+  return nearest_key_in_columns<Fma>(f, depth, i, f.source_width, lane_max<Arch>(nearest));
+}
+
+// ---- resolve (scalar twin: resolve_pixels) ----
+
+// Interleaved RGBA: a pixel's four channels are one 128-bit vector, so each lane's pixel is
+// interpolated with one load per endpoint (no gathers). The same operations per channel as the
+// scalar reference: c0 + frac (c1 - c0) with the table's FMA policy.
+template <class Fma>
+__m128 rgba_lerp(__m128 frac, __m128 c0, __m128 c1) {
+  if constexpr (std::is_same<Fma, Fused>::value) {
+#if defined(__FMA__)
+    return _mm_fmadd_ps(frac, _mm_sub_ps(c1, c0), c0);
+#else
+    static_assert(!std::is_same<Fma, Fma>::value, "the fused policy needs an FMA instruction set");
+#endif
+  } else {
+    return _mm_add_ps(_mm_mul_ps(frac, _mm_sub_ps(c1, c0)), c0);
+  }
+}
+
+// The L pixels of one vector: interpolated between columns j0 and j1 at frac; lanes with
+// `keep` set are left to the caller, lanes with `black` set are written as zeros.
+template <class Arch, class Fma>
+void resolve_rgba_pixels(const float* source, float* target, const xsimd::batch<float, Arch>& j0,
+                         const xsimd::batch<float, Arch>& j1, const xsimd::batch<float, Arch>& frac,
+                         const xsimd::batch_bool<float, Arch>& keep, const xsimd::batch_bool<float, Arch>& black,
+                         bool any_special) {
+  using F = typename Lanes<Arch>::F;
+  using I = typename Lanes<Arch>::I;
+  constexpr int L = Lanes<Arch>::size;
+  alignas(64) std::int32_t first[L], second[L];
+  alignas(64) float weight[L];
+  (xsimd::to_int(j0) * I(4)).store_aligned(first);
+  (xsimd::to_int(j1) * I(4)).store_aligned(second);
+  frac.store_aligned(weight);
+  if (!any_special) {
+    for (int i = 0; i < L; ++i) {
+      const __m128 value = rgba_lerp<Fma>(_mm_set1_ps(weight[i]), _mm_loadu_ps(source + first[i]),
+                                          _mm_loadu_ps(source + second[i]));
+      _mm_storeu_ps(target + 4 * i, value);
+    }
+    return;
+  }
+  alignas(64) float kept[L], blacked[L];
+  xsimd::select(keep, F(1.0f), F(0.0f)).store_aligned(kept);
+  xsimd::select(black, F(1.0f), F(0.0f)).store_aligned(blacked);
+  for (int i = 0; i < L; ++i) {
+    if (kept[i] != 0.0f) continue;
+    const __m128 value = blacked[i] != 0.0f ? _mm_setzero_ps()
+                                            : rgba_lerp<Fma>(_mm_set1_ps(weight[i]), _mm_loadu_ps(source + first[i]),
+                                                             _mm_loadu_ps(source + second[i]));
+    _mm_storeu_ps(target + 4 * i, value);
+  }
+}
+
+template <class Arch, class Fma>
+void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  constexpr int L = Lanes<Arch>::size;
+  const bool interleaved = f.source.color.layout == ColorLayout::interleaved_rgba;
+  const int planes = interleaved ? 1 : f.source.color.channels;
+  const float* source[4];
+  float* target[4];
+  for (int c = 0; c < planes; ++c) {
+    source[c] = f.source.color.plane[c].row(y);
+    target[c] = f.target.color.plane[c].row(y);
+  }
+  const float* parallax = scratch.parallax;
+  const float* depth = f.source.depth.row(y);
+  float* depth_out = f.target.depth.data ? f.target.depth.row(y) : nullptr;
+  std::uint8_t* status_out = f.target.status.data ? f.target.status.row(y) : nullptr;
+  float* x_out = f.target.source_x.data ? f.target.source_x.row(y) : nullptr;
+  const F zero(0.0f), one(1.0f), last(static_cast<float>(f.source_width - 1)), tau(f.hole_threshold), s(f.s);
+  const bool fill_foreground = f.hole_fill == HoleFill::foreground;
+  const bool edges_written = f.edge != EdgeMode::none;
+  const bool mirror_edges = f.edge == EdgeMode::mirror;
+  const bool black_edges = f.edge == EdgeMode::black;
+  const bool holes_written = f.hole_fill != HoleFill::none;
+
+  int t = 0;
+  for (; t + L <= f.target_width; t += L) {
+    const F x = F::load_unaligned(scratch.source_x.data() + t);
+    const B clipped = load_flags<Arch>(scratch.clipped.data() + t);
+    const B outside = ((x < zero) | (x > last)) & ~clipped;
+    F xs = x;
+    if (mirror_edges) {  // reflected about the edge pixel's centre (then clamped)
+      xs = xsimd::select(outside & (x < zero), -x, xsimd::select(outside & (x > last), (last - x) + last, x));
+    }
+    const F xc = xsimd::min(xsimd::max(xs, zero), last);  // == x in the row
+    F j0 = xsimd::floor(xc);
+    F j1 = xsimd::min(j0 + one, last);
+    F frac = xc - j0;
+    // Every column read below lies in [j0, j1] (a fill picks one of the two).
+    ColumnFetch<Arch> columns(j0, j1, f.source_width);
+    F p0, p1;
+    columns.fetch(parallax, p0, p1);
+    const B hole = ((p1 - p0) > tau) & ~(clipped | outside);
+    const bool any_hole = xsimd::any(hole);
+    if (any_hole) {
+      // A wall (§5): the farther endpoint has the smaller key s * p.
+      const B j1_farther = s * p1 < s * p0;
+      const F farther = xsimd::select(j1_farther, j1, j0);
+      const F nearer = xsimd::select(j1_farther, j0, j1);
+      const F fill = fill_foreground ? nearer : farther;
+      j0 = xsimd::select(hole, fill, j0);
+      j1 = xsimd::select(hole, fill, j1);
+      frac = xsimd::select(hole, zero, frac);
+      columns.bind(j0, j1);
+    }
+    // Lanes whose colour and depth are left to the caller keep the target's values.
+    const bool masked = (!edges_written && xsimd::any(outside)) || (!holes_written && any_hole);
+    const B write = ~((outside & B(!edges_written)) | (hole & B(!holes_written)));
+    auto store = [&](float* out, const F& value) {
+      (masked ? xsimd::select(write, value, F::load_unaligned(out)) : value).store_unaligned(out);
+    };
+    if (interleaved) {
+      const B black = outside & B(black_edges);
+      resolve_rgba_pixels<Arch, Fma>(source[0], target[0] + 4 * static_cast<std::ptrdiff_t>(t), j0, j1, frac, ~write,
+                                     black, masked || (black_edges && xsimd::any(black)));
+    } else {
+      // A kilobyte ahead in each colour plane: a measured 1-3 % over the hardware prefetcher
+      // alone, which tracks this many streams less well.
+      for (int c = 0; c < planes; ++c) __builtin_prefetch(source[c] + t + 256);
+    }
+    columns.visit([&](const auto& fetch) {
+      if (!interleaved) {
+        for (int c = 0; c < planes; ++c) {
+          F c0, c1;
+          fetch(source[c], c0, c1);
+          const F value = vmadd<Fma>(frac, c1 - c0, c0);
+          store(target[c] + t, black_edges ? xsimd::select(outside, zero, value) : value);
+        }
+      }
+      if (depth_out) {
+        F d0, d1;
+        fetch(depth, d0, d1);
+        if (f.affine) {
+          store(depth_out + t, vmadd<Fma>(frac, d1 - d0, d0));
+        } else {
+          const F w0 = one / d0;
+          store(depth_out + t, one / vmadd<Fma>(frac, one / d1 - w0, w0));
+        }
+      }
+    });
+    if (status_out) {
+      store_bytes<Arch>(xsimd::select(clipped, F(3.0f), xsimd::select(outside, F(2.0f), xsimd::select(hole, one, zero))),
+                        status_out + t);
+    }
+    if (x_out) x.store_unaligned(x_out + t);
+  }
+  resolve_pixels<Fma>(f, y, scratch, t, f.target_width);  // the tail
+}
+
+}  // namespace
+}  // namespace detail
+}  // namespace reproject
