@@ -7,6 +7,8 @@
 //   <method>/<arch>/1920x1080/threads:<n>/sep:<px>  parallax at infinity a = px, scene convergence
 //   <method>/<arch>/1920x1080/threads:<n>/rgba      interleaved RGBA
 //   pair_<method>/<arch>/1920x1080/threads:<n>      centre -> both eyes (reproject_pair)
+//   <method>/<arch>/1920x1080/threads:<n>/near:fixed  max_negative_parallax = |a| / 2 (an engine's
+//                                                    fixed limit) instead of the frame's own
 //   march16/<arch>/512x512/threads:1/grey           one colour plane: the frame fits in cache
 //   roofline/<W>x<H>/threads:<n>[/grey]             the same bytes streamed by a plain copy
 //
@@ -15,6 +17,7 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
@@ -200,6 +203,7 @@ struct Case {
   int threads = 1;
   Layout layout = Layout::planar_rgba;
   std::optional<int> separation_px;  // unset: the scene's recommended stereo
+  bool fixed_near = false;  // max_negative_parallax = |a| / 2, as engines set it, not the frame's own
   bool pair = false;
   bool warmed = false;
 };
@@ -239,6 +243,7 @@ void bm_reproject(benchmark::State& state, Case* c) {
   options.method = c->method;
   options.arch = c->arch;
   options.threads = c->threads;
+  if (c->fixed_near) options.max_negative_parallax = 0.5f * std::fabs(model.a);
   const TargetView eye = output_frame(c->size, c->layout, 0).view();
   const TargetView other_eye = c->pair ? output_frame(c->size, c->layout, 1).view() : TargetView{};
   const DepthDecoder& decoder = the_decoder();
@@ -443,6 +448,10 @@ void register_all() {
   Case pair;
   pair.pair = true;
   register_methods(pair, "");
+  // A fixed near limit (the engine's choice) instead of the frame's own, 1080p.
+  Case fixed_near;
+  fixed_near.fixed_near = true;
+  register_methods(fixed_near, "/near:fixed");
   // In cache: one colour plane at 512x512, march16 on every arch.
   register_roofline(kInCache, 1, Layout::grey, "/grey");
   for (Arch arch : archs) {

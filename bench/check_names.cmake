@@ -11,7 +11,7 @@ list(FILTER names EXCLUDE REGEX "^$")
 list(LENGTH names count)
 set(method "(pair_)?(scanline|march16|single|secant|exact)/(scalar|sse|avx2|avx512)")
 foreach(name IN LISTS names)
-  if(NOT name MATCHES "^${method}/[0-9]+x[0-9]+/threads:[12](/sep:(8|32|128)|/rgba|/grey)?$"
+  if(NOT name MATCHES "^${method}/[0-9]+x[0-9]+/threads:[12](/sep:(8|32|128)|/rgba|/grey|/near:fixed)?$"
      AND NOT name MATCHES "^roofline/[0-9]+x[0-9]+/threads:[12](/rgba|/grey)?$")
     message(FATAL_ERROR "benchmark name out of form: '${name}'")
   endif()
@@ -22,7 +22,7 @@ foreach(required
     roofline/512x512/threads:1/grey march16/scalar/512x512/threads:1/grey
     march16/scalar/1920x1080/threads:2 scanline/scalar/1920x1080/threads:1/sep:128
     exact/scalar/3840x2160/threads:1 single/scalar/1920x1080/threads:2/rgba
-    pair_secant/scalar/1920x1080/threads:2)
+    pair_secant/scalar/1920x1080/threads:2 exact/scalar/1920x1080/threads:1/near:fixed)
   list(FIND names "${required}" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "benchmark missing: ${required}")

@@ -1,6 +1,8 @@
 // SIMD twin of kernels/exact.cpp (`exact`): the sweep of kernels/exact_sweep.hpp.
 #pragma once
 
+#include <cmath>
+
 #include "kernels/exact_sweep.hpp"
 #include "kernels/simd.hpp"
 
@@ -10,42 +12,109 @@ namespace {  // one copy per arch TU (kernels/simd.hpp)
 
 // ---- exact (scalar twin: sweep_row) ----
 // Two passes. The sweep itself (sequential: later segments occlude earlier ones) records only
-// which segment paints each target pixel, with whole-vector stores: a segment's store may spill
-// past its end (behind it, in sweep order), but every pixel's last write comes from the segment
-// that really covers it, so the spills are always painted over. Then each pixel's source x is
-// computed from its segment across the lanes, with the scalar sweep's arithmetic. The rare
-// clipping case (a near limit tighter than the data) runs the scalar sweep.
+// which segment or extension paints each target pixel (its code, below). Then each pixel's
+// source x is computed from its code across the lanes, with the scalar sweep's arithmetic.
+//
+// Pass 1 has two forms. Without clipping (the row's surface is nowhere nearer than the near
+// limit: always so with the frame's own limit) every segment stores whole vectors without a
+// branch: a store's spill lies at or beyond the next segment's start in sweep order, and the
+// rest of the sweep always paints it again. With clipping, the scalar sweep skips the pixels a
+// segment paints nearer than the limit, so the previous painter must survive there: stores are
+// masked to the segment's span and to the pixels that are not too near.
 
-constexpr int kLeftExtension = -1;   // owner codes of the two edge extensions
-constexpr int kRightExtension = -2;
+constexpr float kLeftExtension = -1.0f;  // codes of the two edge extensions
+constexpr float kRightExtension = -2.0f;
+constexpr float kFarDefault = -3.0f;  // with clipping: not painted, x = t' - p_far (the scalar default)
 
-// Source x of target pixel t painted by `owner` (the scalar sweep's arithmetic), for the tail.
-inline float exact_x_from_owner(const Frame& f, const float* parallax, int t, int owner) {
-  if (owner < 0) return extension_x(f, t, parallax[owner == kLeftExtension ? 0 : f.source_width - 1]);
-  const float p0 = parallax[owner];
-  return static_cast<float>(owner) + segment_frac(f, t, owner, p0, 1.0f + (parallax[owner + 1] - p0));
+// Source x of target pixel t painted by code `owner` (the scalar sweep's arithmetic), for the tail.
+inline float exact_x_from_owner(const Frame& f, const float* parallax, int t, float owner) {
+  if (owner == kFarDefault) return static_cast<float>(t) + static_cast<float>(f.guard) - f.p_far;
+  if (owner < 0.0f) return extension_x(f, t, parallax[owner == kLeftExtension ? 0 : f.source_width - 1]);
+  const int j = static_cast<int>(owner);
+  const float p0 = parallax[j];
+  return owner + segment_frac(f, t, j, p0, 1.0f + (parallax[j + 1] - p0));
 }
 
+// Whether segment [j, j+1] with these endpoint parallaxes is certainly nowhere nearer than the
+// near limit, wherever the scalar sweep interpolates it (frac in [0, 1]): the interpolation
+// madd(frac, p1 - p0, p0) exceeds the nearer endpoint's key by at most 2^-23 (|p0| + |p1|) (one
+// rounding in p1 - p0, one in the madd), and the margin here is 2^-20 (|p0| + |p1|); the float sum
+// is below key_near only if the exact one is (rounding is monotone and key_near is a float).
+// Segments that fail this take the scalar sweep's own per-pixel test.
+inline bool segment_never_near(const Frame& f, float p0, float p1) {
+  const float nearer = std::max(f.s * p0, f.s * p1);
+  return nearer + (std::fabs(p0) + std::fabs(p1)) * 0x1p-20f < f.key_near;
+}
+
+// Pass 1 with clipping: the sweep of sweep_row, painting codes with masked stores.
 template <class Arch, class Fma>
-void simd_exact(const Frame& f, RowScratch& scratch) {
+void exact_paint_clipping(const Frame& f, const float* parallax, float* owner) {
   using F = typename Lanes<Arch>::F;
-  using I = typename Lanes<Arch>::I;
   using B = typename Lanes<Arch>::B;
   constexpr int L = Lanes<Arch>::size;
   const int last = f.source_width - 1;
   const int width = f.target_width;
-  if (!f.near_from_frame || last < 1 || width < L) {
-    sweep_row<Fma>(f, scratch);
-    return;
+  const F lanes = lane_offsets<Arch>(), s(f.s), key_near(f.key_near), guard(static_cast<float>(f.guard));
+  for (int t = 0; t < width; t += L) F(kFarDefault).store_unaligned(owner + t);
+  // Code `code` onto targets [begin, end), except where near(target) (a lane mask) is set.
+  auto paint = [&](float code, int begin, int end, const auto& near) {
+    const F value(code), end_v(static_cast<float>(end));
+    for (int t = begin; t < end; t += L) {
+      const F target = F(static_cast<float>(t)) + lanes;  // exact: small integers
+      const B write = (target < end_v) & ~near(target);
+      xsimd::select(write, value, F::load_unaligned(owner + t)).store_unaligned(owner + t);
+    }
+  };
+  auto never = [](const F&) { return B(false); };
+  auto paint_extension = [&](int column, float code, int begin, int end) {
+    if (f.s * parallax[column] > f.key_near) return;  // the whole extension is too near
+    paint(code, begin, end, never);
+  };
+  auto paint_segment = [&](int j, int begin, int end) {
+    if (begin >= end) return;  // a fold
+    const float p0 = parallax[j];
+    const float p1 = parallax[j + 1];
+    if (segment_never_near(f, p0, p1)) return paint(static_cast<float>(j), begin, end, never);
+    // segment_frac and the scalar sweep's test, per lane.
+    const F zero(0.0f), one(1.0f), p0_v(p0), dp(p1 - p0), length(1.0f + (p1 - p0)), j_v(static_cast<float>(j));
+    paint(static_cast<float>(j), begin, end, [&](const F& target) {
+      const F ratio = ((target + guard) - j_v - p0_v) / length;
+      const F frac = xsimd::select(ratio < zero, zero, xsimd::select(one < ratio, one, ratio));  // std::clamp
+      return s * vmadd<Fma>(frac, dp, p0_v) > key_near;
+    });
+  };
+  auto reach = [&](int column) {
+    return std::clamp(first_target_reached(f, column, parallax[column]) - f.guard, 0, width);
+  };
+  if (f.s < 0.0f) {
+    int begin = reach(0);
+    paint_extension(0, kLeftExtension, 0, begin);
+    for (int j = 0; j < last; ++j) {
+      const int end = reach(j + 1);
+      paint_segment(j, begin, end);
+      begin = end;
+    }
+    paint_extension(last, kRightExtension, begin, width);
+  } else {
+    int end = reach(last);
+    paint_extension(last, kRightExtension, end, width);
+    for (int j = last - 1; j >= 0; --j) {
+      const int begin = reach(j);
+      paint_segment(j, begin, end);
+      end = begin;
+    }
+    paint_extension(0, kLeftExtension, 0, end);
   }
-  const float* parallax = scratch.parallax;
-  std::int32_t* owner = scratch.owner_storage.data() + kOwnerPad;
+}
 
-  // Pass 1: the sweep of exact_sweep.hpp, painting segment numbers. Every segment, even an empty
-  // one (a fold), stores one whole vector at its start without a branch: a store's spill covers
-  // pixels at or beyond the next segment's start (in sweep order), which the rest of the sweep
-  // always paints again (the reaches from there run on to the far extension).
-  const I left_code(kLeftExtension), right_code(kRightExtension);
+// Pass 1 without clipping: whole-vector stores (see above).
+template <class Arch>
+void exact_paint(const Frame& f, const float* parallax, float* owner) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  const int last = f.source_width - 1;
+  const int width = f.target_width;
+  const F left_code(kLeftExtension), right_code(kRightExtension);
   if (f.s < 0.0f) {  // columns upwards; spills land above a segment
     auto reach = [&](int column) {
       return std::clamp(first_target_reached<true>(column, parallax[column]) - f.guard, 0, width);
@@ -54,7 +123,7 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
     for (int t = 0; t < begin; t += L) left_code.store_unaligned(owner + t);
     for (int j = 0; j < last; ++j) {
       const int end = reach(j + 1);
-      const I code(j);
+      const F code(static_cast<float>(j));
       code.store_unaligned(owner + begin);
       for (int t = begin + L; t < end; t += L) code.store_unaligned(owner + t);  // a stretched segment
       begin = end;
@@ -68,36 +137,90 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
     for (int t = width; t > end; t -= L) right_code.store_unaligned(owner + t - L);
     for (int j = last - 1; j >= 0; --j) {
       const int begin = reach(j);
-      const I code(j);
+      const F code(static_cast<float>(j));
       code.store_unaligned(owner + end - L);
       for (int t = end - L; t > begin; t -= L) code.store_unaligned(owner + t - L);
       end = begin;
     }
     for (int t = end; t > 0; t -= L) left_code.store_unaligned(owner + t - L);
   }
+}
 
-  // Pass 2: source x across the lanes.
+// The row's nearest key against the near limit (sweep_row's may_clip), with the vector max.
+template <class Arch>
+bool exact_may_clip(const Frame& f, const float* parallax) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  if (f.near_from_frame) return false;  // the frame's own nearest: nothing is clipped
+  const F s(f.s);
+  F nearest(f.key_far);
+  int j = 0;
+  for (; j + L <= f.source_width; j += L) nearest = xsimd::max(nearest, s * F::load_unaligned(parallax + j));
+  float key = lane_max<Arch>(nearest);
+  for (; j < f.source_width; ++j) key = std::max(key, f.s * parallax[j]);
+  return key > f.key_near;  // max is exact: only the order of equal keys differs, not the test
+}
+
+template <class Arch, class Fma>
+void simd_exact(const Frame& f, RowScratch& scratch) {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  constexpr int L = Lanes<Arch>::size;
+  const int last = f.source_width - 1;
+  const int width = f.target_width;
+  if (last < 1 || width < L) {
+    sweep_row<Fma>(f, scratch);
+    return;
+  }
+  const float* parallax = scratch.parallax;
+  float* owner = scratch.owner_storage.data() + kOwnerPad;
+  const bool may_clip = exact_may_clip<Arch>(f, parallax);
+  if (may_clip) exact_paint_clipping<Arch, Fma>(f, parallax, owner);
+  else exact_paint<Arch>(f, parallax, owner);
+
+  // Pass 2: source x across the lanes, then (with clipping) sweep_row's clipped test.
   const F zero(0.0f), one(1.0f), guard(static_cast<float>(f.guard)), lanes = lane_offsets<Arch>();
-  const F left_parallax(parallax[0]), right_parallax(parallax[last]);
+  const F left_parallax(parallax[0]), right_parallax(parallax[last]), p_far(f.p_far), p_near(f.p_near), s(f.s);
   float* xs = scratch.source_x.data();
+  float* clipped = scratch.clipped.data();
   int t = 0;
   for (; t + L <= width; t += L) {
-    const F code = xsimd::to_float(I::load_unaligned(owner + t));
+    const F code = F::load_unaligned(owner + t);
     const B extension = code < zero;
     const F j = xsimd::select(extension, zero, code);
-    const F target = F(static_cast<float>(t)) + lanes;  // exact: small integers
+    const F target = (F(static_cast<float>(t)) + lanes) + guard;  // t + guard, as in the scalar sweep
     F p0, p1;
     ColumnFetch<Arch>(j, j + one, f.source_width).fetch(parallax, p0, p1);
     const F length = one + (p1 - p0);
-    const F ratio = ((target + guard) - j - p0) / length;
+    const F ratio = (target - j - p0) / length;
     const F frac = xsimd::select(ratio < zero, zero, xsimd::select(one < ratio, one, ratio));  // std::clamp
-    const F edge_parallax = xsimd::select(code == F(static_cast<float>(kLeftExtension)), left_parallax, right_parallax);
-    xsimd::select(extension, (target + guard) - edge_parallax, j + frac).store_unaligned(xs + t);
-    zero.store_unaligned(scratch.clipped.data() + t);
+    const F edge_parallax = xsimd::select(code == F(kLeftExtension), left_parallax,
+                                          xsimd::select(code == F(kRightExtension), right_parallax, p_far));
+    F x = xsimd::select(extension, target - edge_parallax, j + frac);
+    B clip(false);
+    if (may_clip) {
+      // Rays that start behind the surface at the near end: x_near, clipped (parallax_at<Fma>).
+      const F x_near = target - p_near;
+      const F column = xsimd::floor(x_near);
+      F q0, q1;
+      ColumnFetch<Arch>(column, column + one, f.source_width + f.pad_right).fetch(parallax, q0, q1);
+      clip = s * ((target - x_near) - vmadd<Fma>(x_near - column, q1 - q0, q0)) < zero;
+      x = xsimd::select(clip, x_near, x);
+    }
+    x.store_unaligned(xs + t);
+    store_flags<Arch>(clip, clipped + t);
   }
   for (; t < width; ++t) {
     xs[t] = exact_x_from_owner(f, parallax, t, owner[t]);
-    scratch.clipped[t] = 0.0f;
+    clipped[t] = 0.0f;
+    if (may_clip) {
+      const float target = static_cast<float>(t) + static_cast<float>(f.guard);
+      const float x_near = target - f.p_near;
+      if (f.s * ((target - x_near) - parallax_at<Fma>(parallax, x_near)) < 0.0f) {
+        xs[t] = x_near;
+        clipped[t] = 1.0f;
+      }
+    }
   }
 }
 

@@ -61,9 +61,9 @@ struct RowScratch {
   std::vector<float> parallax_storage;
   std::vector<float> source_x;
   std::vector<float> clipped;  // 1 or 0 per target pixel: a float, so SIMD reads it with one load
-  // `exact`'s SIMD sweep: per target pixel, the segment that paints it (simd.hpp), with
-  // kOwnerPad entries before and after for whole-vector stores.
-  std::vector<std::int32_t> owner_storage;
+  // `exact`'s SIMD sweep: per target pixel, the code of what paints it (exact_simd.hpp), with
+  // kOwnerPad entries before and after for whole-vector stores. Codes are exact small floats.
+  std::vector<float> owner_storage;
   std::vector<float> block_min;  // `secant`: min/max key per block of columns (secant.hpp)
   std::vector<float> block_max;
   const float* parallax = nullptr;  // column 0 of the padded row
