@@ -11,7 +11,7 @@ list(FILTER names EXCLUDE REGEX "^$")
 list(LENGTH names count)
 set(method "(pair_)?(scanline|march16|single|secant|exact)/(scalar|sse|avx2|avx512)")
 foreach(name IN LISTS names)
-  if(NOT name MATCHES "^${method}/[0-9]+x[0-9]+/threads:[12](/sep:(8|32|128)|/rgba|/grey|/near:fixed)?$"
+  if(NOT name MATCHES "^${method}/[0-9]+x[0-9]+/threads:[12](/sep:(8|32|128)|/rgba|/grey|/near:fixed|/two_calls)?$"
      AND NOT name MATCHES "^roofline/[0-9]+x[0-9]+/threads:[12](/rgba|/grey)?$")
     message(FATAL_ERROR "benchmark name out of form: '${name}'")
   endif()

@@ -147,6 +147,31 @@ void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, i
   }
 }
 
+void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& kernels, RowScratch& scratch,
+                   int row_begin, int row_end) {
+  // Column 0 at the same place for both eyes: prepare_scratch sized the storage for the widest
+  // padding on either side, and each eye's own padding is no wider.
+  float* parallax = scratch.parallax_storage.data() + std::max(left.pad_left, right.pad_left);
+  scratch.parallax = parallax;
+  const SearchRow search_left = kernels.search[static_cast<int>(left.method)];
+  const SearchRow search_right = kernels.search[static_cast<int>(right.method)];
+  for (int y = row_begin; y < row_end; ++y) {
+    // The depth row comes from memory once: the second eye decodes it again from the cache, with
+    // its own coefficients (the mirror of the first's), so each eye's parallax has exactly the
+    // bits its own call would give it, and the second eye's colour reads hit the rows the first
+    // eye's resolve has just read.
+    const float* depth = right.source.depth.row(y);
+    kernels.decode(right, depth, parallax);
+    pad_parallax_row(right, parallax);
+    search_right(right, scratch);
+    kernels.resolve(right, y, scratch);
+    kernels.decode(left, depth, parallax);
+    pad_parallax_row(left, parallax);
+    search_left(left, scratch);
+    kernels.resolve(left, y, scratch);
+  }
+}
+
 void run_rows(const Frame& f, const KernelTable& kernels, int row_begin, int row_end) {
   run_rows(f, kernels, thread_scratch(f), row_begin, row_end);
 }

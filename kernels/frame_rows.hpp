@@ -38,5 +38,14 @@ void prepare_scratch(const Frame& f, RowScratch& scratch);
 // run_rows() with the caller's scratch (prepared for f).
 void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin, int row_end);
 
+// A pair's two eyes (reproject_pair: `left` is the mirror of `right`, same source and options),
+// row by row: each source row is read from memory once and serves both eyes from the cache.
+// Each eye's output is bit for bit that of run_rows() on its own frame.
+void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& kernels, RowScratch& scratch,
+                   int row_begin, int row_end);
+
+// A pair's eyes have the same nearest key: eye k's key is s_k * p_k and both signs flip from one
+// eye to the other, so the right eye's near pass (nearest_key_in_rows) serves both.
+
 }  // namespace detail
 }  // namespace reproject

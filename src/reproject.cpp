@@ -252,10 +252,12 @@ class ScratchSetLease {
   ScratchSet* set_;
 };
 
-// What every task of a phase reads. Task i is band i % bands of frame i / bands.
+// What every task of a phase reads. Task i is band i of the frame, or of both eyes of a pair
+// (frames[0] left, frames[1] right), which share each source row and the near pass.
 struct RowPhase {
   const KernelTable* kernels = nullptr;
   const Frame* frames = nullptr;
+  bool pair = false;
   int bands = 1;
   bool near_pass = false;  // true: nearest[i] = band i's nearest key; false: run band i's rows
   float* nearest = nullptr;
@@ -263,13 +265,14 @@ struct RowPhase {
   int slot_count = 0;
 };
 
-void run_band(const RowPhase& phase, int index, RowScratch& scratch) {
-  const Frame& f = phase.frames[index / phase.bands];
-  const long long band = index % phase.bands;
-  const int begin = static_cast<int>(f.height * band / phase.bands);
-  const int end = static_cast<int>(f.height * (band + 1) / phase.bands);
+void run_band(const RowPhase& phase, int band, RowScratch& scratch) {
+  const Frame& f = phase.frames[phase.pair ? 1 : 0];
+  const int begin = static_cast<int>(static_cast<long long>(f.height) * band / phase.bands);
+  const int end = static_cast<int>(static_cast<long long>(f.height) * (band + 1) / phase.bands);
   if (phase.near_pass)
-    phase.nearest[index] = detail::nearest_key_in_rows(f, *phase.kernels, scratch, begin, end);
+    phase.nearest[band] = detail::nearest_key_in_rows(f, *phase.kernels, scratch, begin, end);
+  else if (phase.pair)
+    detail::run_pair_rows(phase.frames[0], phase.frames[1], *phase.kernels, scratch, begin, end);
   else
     detail::run_rows(f, *phase.kernels, scratch, begin, end);
 }
@@ -328,7 +331,7 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
       bands = std::min({height, threads * kBandsPerThread, kMaxBands});
     }
   }
-  const int tasks = bands * frame_count;
+  const int tasks = bands;
 
   ScratchSetLease lease;
   ScratchSet& set = lease.set();
@@ -339,10 +342,11 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
   const int prepared = jobs != nullptr ? std::min(tasks, std::max(detail::hardware_threads(), 4)) : slot_count;
   set.reserve(slot_count, prepared, frames[0]);
 
-  float nearest[2 * kMaxBands];
+  float nearest[kMaxBands];
   RowPhase phase;
   phase.kernels = &kernels;
   phase.frames = frames;
+  phase.pair = frame_count == 2;
   phase.bands = bands;
   phase.nearest = nearest;
   phase.slots = set.slots.data();
@@ -350,12 +354,11 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
   if (detail::near_pass_needed(frames[0])) {
     phase.near_pass = true;
     run_phase(phase, tasks, pool, slot_count, jobs);
-    for (int k = 0; k < frame_count; ++k) {
-      // In band order from key_far, as the sequential pass over the whole frame does.
-      float key = frames[k].key_far;
-      for (int b = 0; b < bands; ++b) key = std::max(key, nearest[k * bands + b]);
-      detail::set_near_key(frames[k], key);
-    }
+    // In band order from key_far, as the sequential pass over the whole frame does; a pair's
+    // eyes share the key (frame_rows.hpp).
+    float key = frames[frame_count - 1].key_far;
+    for (int b = 0; b < bands; ++b) key = std::max(key, nearest[b]);
+    for (int k = 0; k < frame_count; ++k) detail::set_near_key(frames[k], key);
     phase.near_pass = false;
   }
   run_phase(phase, tasks, pool, slot_count, jobs);
