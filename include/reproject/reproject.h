@@ -17,7 +17,8 @@
  *    how much of it the caller knows. Always fill it with reproject_options_init() (which sets
  *    struct_size to this header's sizeof and every field to the C++ default) and then change the
  *    fields you need; the library reads only the first struct_size bytes and takes the defaults
- *    for fields beyond them, so a program built against an older header keeps working.
+ *    for fields beyond them, so a program built against an older header keeps working (and a
+ *    struct_size larger than the library knows, from a newer header, has its unknown tail ignored).
  *  - reproject_abi_version() returns REPROJECT_C_ABI_VERSION of the library that is linked; it
  *    changes only if one of the stable items above ever has to change.
  */

@@ -7,11 +7,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
+#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <condition_variable>
-#include <cstring>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -389,7 +387,14 @@ void bind_core(py::module_& m) {
       .def_readwrite("status", &Result::status)
       .def_readwrite("source_x", &Result::source_x)
       .def("__repr__", [](const Result& r) {
-        return "Result(color=" + py::repr(r.color).cast<std::string>().substr(0, 40) + "...)";
+        // Shapes and dtypes, not the pixels.
+        auto field = [](const char* name, const py::object& o) {
+          if (o.is_none()) return std::string(name) + "=None";
+          return std::string(name) + "=<" + py::str(o.attr("dtype")).cast<std::string>() + " " +
+                 py::str(o.attr("shape")).cast<std::string>() + ">";
+        };
+        return "Result(" + field("color", r.color) + ", " + field("depth", r.depth) + ", " +
+               field("status", r.status) + ", " + field("source_x", r.source_x) + ")";
       });
   py::class_<PairResult>(m, "PairResult", "Both eyes' Results; unpacks as (left, right).")
       .def_readwrite("left", &PairResult::left)
