@@ -1,0 +1,233 @@
+/* reproject's C interface: the library's reprojection, depth decoder, parallax model, arch queries
+ * and job-system hook, for C and for every language that binds through a C ABI (C#, Rust, Zig, ...).
+ * A thin layer over the C++ API of reproject.hpp: the same computation, bit for bit.
+ *
+ * Conventions
+ *  - Plain structs of pointers, sizes and strides; enums are int32_t values (the REPROJECT_*
+ *    constants below), never C enum types, whose size the compiler chooses.
+ *  - Every call that can fail returns a reproject_status (REPROJECT_OK = 0, else the code of the
+ *    C++ StatusCode). The message of the calling thread's last failure is
+ *    reproject_last_error_message(). Nothing is thrown or longjmp'd across this interface.
+ *  - Strides count elements (floats or bytes), not bytes, as in the C++ views.
+ *
+ * ABI
+ *  - Stable: the names and values of the REPROJECT_* constants, the function signatures, and the
+ *    layout of every struct except reproject_options. New constants and functions are only added.
+ *  - reproject_options may grow at its end in later versions: its first field, struct_size, says
+ *    how much of it the caller knows. Always fill it with reproject_options_init() (which sets
+ *    struct_size to this header's sizeof and every field to the C++ default) and then change the
+ *    fields you need; the library reads only the first struct_size bytes and takes the defaults
+ *    for fields beyond them, so a program built against an older header keeps working (and a
+ *    struct_size larger than the library knows, from a newer header, has its unknown tail ignored).
+ *  - reproject_abi_version() returns REPROJECT_C_ABI_VERSION of the library that is linked; it
+ *    changes only if one of the stable items above ever has to change.
+ */
+#ifndef REPROJECT_REPROJECT_H
+#define REPROJECT_REPROJECT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define REPROJECT_C_ABI_VERSION 1
+
+/* Status codes (C++ StatusCode). */
+typedef int32_t reproject_status;
+#define REPROJECT_OK 0
+#define REPROJECT_NULL_POINTER 1
+#define REPROJECT_INVALID_SIZE 2
+#define REPROJECT_INVALID_STRIDE 3
+#define REPROJECT_SIZE_MISMATCH 4
+#define REPROJECT_ALIASING 5
+#define REPROJECT_INVALID_DECODER 6
+#define REPROJECT_INVALID_MODEL 7
+#define REPROJECT_INVALID_OPTION 8
+
+/* Methods (C++ Method). */
+#define REPROJECT_METHOD_SCANLINE 0
+#define REPROJECT_METHOD_MARCH16 1
+#define REPROJECT_METHOD_SINGLE 2
+#define REPROJECT_METHOD_SECANT 3
+#define REPROJECT_METHOD_EXACT 4
+
+/* Instruction sets (C++ Arch); REPROJECT_ARCH_AUTO: selected_arch(). */
+#define REPROJECT_ARCH_AUTO (-1)
+#define REPROJECT_ARCH_SCALAR 0
+#define REPROJECT_ARCH_SSE 1
+#define REPROJECT_ARCH_AVX2 2
+#define REPROJECT_ARCH_AVX512 3
+
+/* Per-pixel status bytes (C++ PixelStatus). */
+#define REPROJECT_PIXEL_HIT 0
+#define REPROJECT_PIXEL_HOLE 1
+#define REPROJECT_PIXEL_OUTSIDE 2
+#define REPROJECT_PIXEL_CLIPPED 3
+
+/* Hole fill and edge modes (C++ HoleFill, EdgeMode). */
+#define REPROJECT_FILL_BACKGROUND 0
+#define REPROJECT_FILL_FOREGROUND 1
+#define REPROJECT_FILL_NONE 2
+#define REPROJECT_EDGE_CLAMP 0
+#define REPROJECT_EDGE_NONE 1
+#define REPROJECT_EDGE_BLACK 2
+#define REPROJECT_EDGE_MIRROR 3
+
+/* Depth encodings (C++ DepthEncoding). */
+#define REPROJECT_DEPTH_LINEAR 0
+#define REPROJECT_DEPTH_STANDARD 1
+#define REPROJECT_DEPTH_GL_NDC 2
+#define REPROJECT_DEPTH_REVERSED 3
+#define REPROJECT_DEPTH_REVERSED_INFINITE 4
+#define REPROJECT_DEPTH_INFINITE 5
+#define REPROJECT_DEPTH_DISPARITY 6
+
+/* Eye directions (C++ EyeDirection). */
+#define REPROJECT_LEFT_TO_RIGHT 0
+#define REPROJECT_RIGHT_TO_LEFT 1
+#define REPROJECT_CENTRE_TO_LEFT 2
+#define REPROJECT_CENTRE_TO_RIGHT 3
+
+/* Colour layouts (C++ ColorLayout). */
+#define REPROJECT_LAYOUT_PLANAR 0
+#define REPROJECT_LAYOUT_INTERLEAVED_RGBA 1
+
+/* A plane: row y starts at data + y * stride (elements). */
+typedef struct reproject_plane {
+  const float* data;
+  int32_t width;
+  int32_t height;
+  int64_t stride;
+} reproject_plane;
+
+typedef struct reproject_mut_plane {
+  float* data;
+  int32_t width;
+  int32_t height;
+  int64_t stride;
+} reproject_mut_plane;
+
+typedef struct reproject_byte_plane {
+  uint8_t* data;
+  int32_t width;
+  int32_t height;
+  int64_t stride;
+} reproject_byte_plane;
+
+/* Colour: planar (1..4 planes) or one interleaved RGBA plane (channels = 4, plane[0] only). */
+typedef struct reproject_color {
+  int32_t layout;
+  int32_t channels;
+  reproject_plane plane[4];
+} reproject_color;
+
+typedef struct reproject_mut_color {
+  int32_t layout;
+  int32_t channels;
+  reproject_mut_plane plane[4];
+} reproject_mut_color;
+
+typedef struct reproject_source {
+  reproject_color color;
+  reproject_plane depth;
+} reproject_source;
+
+/* Colour is required; depth, status and source_x are written when their data is not NULL. */
+typedef struct reproject_target {
+  reproject_mut_color color;
+  reproject_mut_plane depth;
+  reproject_byte_plane status;
+  reproject_mut_plane source_x;
+} reproject_target;
+
+/* A depth decoder, by value: its encoding and planes. Made by the reproject_decoder_* factories
+ * (an invalid one is refused by the calls that use it, with the decoder's message). */
+typedef struct reproject_decoder {
+  int32_t encoding;
+  int32_t reserved; /* 0 */
+  double near_plane;
+  double far_plane;
+} reproject_decoder;
+
+/* p(w) = a + b w pixels (C++ ParallaxModel). */
+typedef struct reproject_parallax {
+  float a;
+  float b;
+} reproject_parallax;
+
+/* C++ Options; the optional fields have a has_ flag (0: unset, the C++ default). Fill with
+ * reproject_options_init() first: see ABI above. */
+typedef struct reproject_options {
+  uint32_t struct_size;
+  int32_t method;
+  int32_t has_max_negative_parallax;
+  float max_negative_parallax;
+  float hole_threshold;
+  int32_t hole_fill;
+  int32_t edge;
+  int32_t guard;
+  int32_t has_probe_parallax;
+  float probe_parallax;
+  int32_t march_steps;
+  int32_t secant_max_steps;
+  int32_t arch; /* REPROJECT_ARCH_AUTO or an REPROJECT_ARCH_* */
+  int32_t threads;
+} reproject_options;
+
+/* The caller's job system (C++ ParallelFor): run must call task(task_context, i) once for every i
+ * in [0, count), on any threads in any order, and return when all calls have returned. */
+typedef struct reproject_parallel_for {
+  void* context;
+  void (*run)(void* context, int32_t count, void (*task)(void* task_context, int32_t index), void* task_context);
+} reproject_parallel_for;
+
+int32_t reproject_abi_version(void);
+
+/* The calling thread's last failure message ("ok" if none yet); valid until its next failing call. */
+const char* reproject_last_error_message(void);
+/* Short stable names, e.g. "invalid_stride", "secant", "avx2", "standard"; "?" when unknown. */
+const char* reproject_status_name(reproject_status status);
+const char* reproject_method_name(int32_t method);
+const char* reproject_arch_name(int32_t arch);
+const char* reproject_encoding_name(int32_t encoding);
+
+int32_t reproject_arch_supported(int32_t arch); /* 1 or 0 */
+int32_t reproject_selected_arch(void);
+
+void reproject_options_init(reproject_options* options);
+
+/* Decoder factories (C++ DepthDecoder). Each fills *out (also when it fails, with a decoder the
+ * reprojection refuses) and returns its validation. */
+reproject_status reproject_decoder_from_near_far(int32_t encoding, double near_plane, double far_plane,
+                                                 reproject_decoder* out);
+reproject_status reproject_decoder_linear(reproject_decoder* out);
+reproject_status reproject_decoder_disparity(reproject_decoder* out);
+reproject_status reproject_decoder_from_d3d_projection(const float m[16], int32_t encoding, reproject_decoder* out);
+reproject_status reproject_decoder_from_gl_projection(const float m[16], int32_t encoding, reproject_decoder* out);
+/* w = 1/z and z for a stored value; NaN for an invalid decoder. */
+float reproject_decoder_inverse_depth(const reproject_decoder* decoder, float stored);
+float reproject_decoder_linear_depth(const reproject_decoder* decoder, float stored);
+
+/* Parallax factories (C++ ParallaxModel); each returns the model's validation. */
+reproject_status reproject_parallax_from_stereo(double separation, double convergence, int32_t width,
+                                                int32_t direction, reproject_parallax* out);
+reproject_status reproject_parallax_from_physical(double interocular, double screen_width, double convergence,
+                                                  int32_t width, int32_t direction, reproject_parallax* out);
+reproject_status reproject_parallax_from_disparity(int32_t direction, reproject_parallax* out);
+
+/* reproject() and reproject_pair(); jobs NULL: the library's own thread pool. */
+reproject_status reproject_warp(const reproject_source* source, const reproject_decoder* decoder,
+                                const reproject_parallax* model, const reproject_options* options,
+                                const reproject_target* target, const reproject_parallel_for* jobs);
+reproject_status reproject_warp_pair(const reproject_source* centre, const reproject_decoder* decoder,
+                                     const reproject_parallax* centre_to_right, const reproject_options* options,
+                                     const reproject_target* left, const reproject_target* right,
+                                     const reproject_parallel_for* jobs);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* REPROJECT_REPROJECT_H */

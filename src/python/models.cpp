@@ -1,0 +1,196 @@
+// The depth decoder, the parallax model and the stereo camera (depth.hpp, parallax.hpp). A factory
+// given invalid parameters raises ValueError with the library's message instead of returning an
+// object that every later call would refuse.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+
+#include "bindings.hpp"
+#include "reproject/depth.hpp"
+#include "reproject/parallax.hpp"
+
+namespace reproject::python {
+
+namespace {
+
+DepthEncoding encoding_of(const std::string& name) {
+  DepthEncoding e{};
+  if (!parse_encoding(name.c_str(), &e)) throw py::value_error("unknown encoding '" + name + "'");
+  return e;
+}
+
+EyeDirection direction_of(const std::string& name) {
+  EyeDirection d{};
+  if (!parse_direction(name.c_str(), &d)) throw py::value_error("unknown direction '" + name + "'");
+  return d;
+}
+
+Eye eye_of(const std::string& name) {
+  if (name == "left") return Eye::left;
+  if (name == "right") return Eye::right;
+  throw py::value_error("unknown eye '" + name + "' (left, right)");
+}
+
+DepthDecoder checked(const DepthDecoder& d) {
+  raise_if_failed(d.validate());
+  return d;
+}
+ParallaxModel checked(const ParallaxModel& m) {
+  raise_if_failed(m.validate());
+  return m;
+}
+
+// 16 floats in the API's memory order: a (4, 4) array flattened in C order, or 16 numbers.
+struct Matrix {
+  float m[16];
+};
+Matrix matrix_of(const py::array_t<float, py::array::c_style | py::array::forcecast>& a) {
+  if (a.size() != 16) throw py::value_error("expected a 4x4 matrix (16 numbers), got " + std::to_string(a.size()));
+  Matrix out;
+  for (int i = 0; i < 16; ++i) out.m[i] = a.data()[i];
+  return out;
+}
+// f applied to every element of a number or an array (float32 out; a number gives a number).
+template <class In, class F>
+py::object elementwise(const py::object& x, F f) {
+  if (py::isinstance<py::float_>(x) || py::isinstance<py::int_>(x)) return py::float_(f(x.cast<In>()));
+  const auto in = py::array_t<In, py::array::c_style | py::array::forcecast>::ensure(x);
+  if (!in) throw py::type_error("expected a number or an array of numbers");
+  py::array_t<float> out(std::vector<py::ssize_t>(in.shape(), in.shape() + in.ndim()));
+  for (py::ssize_t i = 0; i < in.size(); ++i) out.mutable_data()[i] = f(in.data()[i]);
+  return std::move(out);
+}
+
+py::array_t<float> matrix_array(const float m[16]) {
+  py::array_t<float> out({4, 4});
+  for (int i = 0; i < 16; ++i) out.mutable_data()[i] = m[i];
+  return out;
+}
+
+}  // namespace
+
+void bind_models(py::module_& m) {
+  py::class_<DepthDecoder>(m, "Decoder",
+                           "The shared depth decoder: stored value -> inverse depth w = 1/z (depth.hpp).")
+      .def(py::init([](const std::string& encoding, std::optional<double> near_plane, std::optional<double> far_plane) {
+             const DepthEncoding e = encoding_of(encoding);
+             if (e == DepthEncoding::linear) return DepthDecoder::linear();
+             if (e == DepthEncoding::disparity) return DepthDecoder::disparity();
+             const double nan = std::numeric_limits<double>::quiet_NaN();
+             return checked(DepthDecoder::from_near_far(e, near_plane.value_or(nan), far_plane.value_or(nan)));
+           }),
+           py::arg("encoding") = "linear", py::arg("near") = py::none(), py::arg("far") = py::none())
+      .def_static("from_near_far",
+                  [](const std::string& encoding, double near_plane, double far_plane) {
+                    return checked(DepthDecoder::from_near_far(encoding_of(encoding), near_plane, far_plane));
+                  },
+                  py::arg("encoding"), py::arg("near"), py::arg("far"))
+      .def_static("linear", &DepthDecoder::linear)
+      .def_static("disparity", &DepthDecoder::disparity)
+      .def_static("from_d3d_projection",
+                  [](const py::array_t<float, py::array::c_style | py::array::forcecast>& matrix,
+                     const std::string& encoding) {
+                    const Matrix mm = matrix_of(matrix);
+                    return checked(DepthDecoder::from_d3d_projection(mm.m, encoding_of(encoding)));
+                  },
+                  py::arg("matrix"), py::arg("encoding"),
+                  "Near/far read off a D3D projection (row-vector form, row-major: the (4, 4) array as written).")
+      .def_static("from_gl_projection",
+                  [](const py::array_t<float, py::array::c_style | py::array::forcecast>& matrix,
+                     const std::string& encoding) {
+                    const Matrix mm = matrix_of(matrix);
+                    return checked(DepthDecoder::from_gl_projection(mm.m, encoding_of(encoding)));
+                  },
+                  py::arg("matrix"), py::arg("encoding"),
+                  "Near/far read off a GL projection in glUniformMatrix4fv order (column-major: 16 numbers as "
+                  "OpenGL stores them).")
+      .def_property_readonly("encoding", [](const DepthDecoder& d) { return std::string(to_string(d.encoding())); })
+      .def_property_readonly("near", &DepthDecoder::near_plane)
+      .def_property_readonly("far", &DepthDecoder::far_plane)
+      .def_property_readonly("A", &DepthDecoder::A)
+      .def_property_readonly("B", &DepthDecoder::B)
+      .def("inverse_depth", [](const DepthDecoder& d, const py::object& stored) {
+             return elementwise<float>(stored, [&d](float v) { return d.inverse_depth(v); });
+           },
+           py::arg("stored"))
+      .def("linear_depth", [](const DepthDecoder& d, const py::object& stored) {
+             return elementwise<float>(stored, [&d](float v) { return d.linear_depth(v); });
+           },
+           py::arg("stored"))
+      .def("encode", [](const DepthDecoder& d, const py::object& z) {
+             return elementwise<double>(z, [&d](double v) { return d.encode(v); });
+           }, py::arg("z"))
+      .def("__repr__", [](const DepthDecoder& d) {
+        return "Decoder('" + std::string(to_string(d.encoding())) + "', near=" + py::repr(py::float_(d.near_plane())).cast<std::string>() +
+               ", far=" + py::repr(py::float_(d.far_plane())).cast<std::string>() + ")";
+      });
+
+  py::class_<ParallaxModel>(m, "ParallaxModel", "p(w) = a + b w pixels (parallax.hpp).")
+      .def(py::init([](float a, float b) { return checked(ParallaxModel{a, b}); }), py::arg("a"), py::arg("b"))
+      .def_readwrite("a", &ParallaxModel::a)
+      .def_readwrite("b", &ParallaxModel::b)
+      .def("parallax", [](const ParallaxModel& p, const py::object& w) {
+             return elementwise<float>(w, [&p](float v) { return p.parallax(v); });
+           },
+           py::arg("inverse_depth"))
+      .def_static("from_stereo",
+                  [](double separation, double convergence, int width, const std::string& direction) {
+                    return checked(ParallaxModel::from_stereo(separation, convergence, width, direction_of(direction)));
+                  },
+                  py::arg("separation"), py::arg("convergence"), py::arg("width"), py::arg("direction"))
+      .def_static("from_physical",
+                  [](double interocular, double screen_width, double convergence, int width,
+                     const std::string& direction) {
+                    return checked(ParallaxModel::from_physical(interocular, screen_width, convergence, width,
+                                                                direction_of(direction)));
+                  },
+                  py::arg("interocular"), py::arg("screen_width"), py::arg("convergence"), py::arg("width"),
+                  py::arg("direction"))
+      .def_static("from_disparity",
+                  [](const std::string& direction) {
+                    return checked(ParallaxModel::from_disparity(direction_of(direction)));
+                  },
+                  py::arg("direction") = "left-to-right")
+      .def("__repr__", [](const ParallaxModel& p) {
+        return "ParallaxModel(a=" + py::repr(py::float_(p.a)).cast<std::string>() +
+               ", b=" + py::repr(py::float_(p.b)).cast<std::string>() + ")";
+      });
+
+  py::class_<StereoCamera>(m, "StereoCamera", "The standard stereo projection: separation S, convergence c.")
+      .def(py::init([](double separation, double convergence) { return StereoCamera{separation, convergence}; }),
+           py::arg("separation") = 0.0, py::arg("convergence") = 1.0)
+      .def_readwrite("separation", &StereoCamera::separation)
+      .def_readwrite("convergence", &StereoCamera::convergence)
+      .def_static("from_physical", &StereoCamera::from_physical, py::arg("interocular"), py::arg("screen_width"),
+                  py::arg("convergence"))
+      .def("eye_translation", &StereoCamera::eye_translation, py::arg("horizontal_fov"))
+      .def("parallax",
+           [](const StereoCamera& c, int width, const std::string& direction) {
+             return checked(c.parallax(width, direction_of(direction)));
+           },
+           py::arg("width"), py::arg("direction"))
+      .def("projection_d3d",
+           [](const StereoCamera& c, const py::array_t<float, py::array::c_style | py::array::forcecast>& mono,
+              const std::string& eye) {
+             float out[16];
+             c.projection_d3d(matrix_of(mono).m, eye_of(eye), out);
+             return matrix_array(out);
+           },
+           py::arg("mono"), py::arg("eye"))
+      .def("projection_gl",
+           [](const StereoCamera& c, const py::array_t<float, py::array::c_style | py::array::forcecast>& mono,
+              const std::string& eye) {
+             float out[16];
+             c.projection_gl(matrix_of(mono).m, eye_of(eye), out);
+             return matrix_array(out);
+           },
+           py::arg("mono"), py::arg("eye"))
+      .def("__repr__", [](const StereoCamera& c) {
+        return "StereoCamera(separation=" + py::repr(py::float_(c.separation)).cast<std::string>() +
+               ", convergence=" + py::repr(py::float_(c.convergence)).cast<std::string>() + ")";
+      });
+}
+
+}  // namespace reproject::python

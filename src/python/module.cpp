@@ -1,0 +1,439 @@
+// The Python module `reproject` (pybind11): the library over NumPy arrays.
+//
+// Arrays are passed to the library as views (src/python/arrays.hpp); outputs are new arrays or the
+// caller's (`out=`). The library's own validation decides what is valid, and its message becomes
+// a ValueError; wrong dtypes are TypeErrors. The GIL is released while the kernels run.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "arrays.hpp"
+#include "bindings.hpp"
+#include "reproject/reproject.hpp"
+
+namespace reproject::python {
+
+void raise_if_failed(const Status& status) {
+  if (!status.ok()) throw py::value_error(status.message());
+}
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// ---------------------------------------------------------------------------------------------
+// Names <-> enums: the library's parsers where it has them.
+
+template <class Enum>
+Enum parse_name(const std::string& name, bool (*parse)(const char*, Enum*), const char* what) {
+  Enum value{};
+  if (!parse(name.c_str(), &value)) throw py::value_error("unknown " + std::string(what) + " '" + name + "'");
+  return value;
+}
+
+HoleFill parse_fill(const std::string& name) {
+  if (name == "background") return HoleFill::background;
+  if (name == "foreground") return HoleFill::foreground;
+  if (name == "none") return HoleFill::none;
+  throw py::value_error("unknown hole_fill '" + name + "' (background, foreground, none)");
+}
+
+EdgeMode parse_edge(const std::string& name) {
+  if (name == "clamp") return EdgeMode::clamp;
+  if (name == "none") return EdgeMode::none;
+  if (name == "black") return EdgeMode::black;
+  if (name == "mirror") return EdgeMode::mirror;
+  throw py::value_error("unknown edge '" + name + "' (clamp, none, black, mirror)");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Test-only counters: how many calls are inside the GIL-released region at once, and an optional
+// rendezvous that holds each call there until `want` calls are inside (or a timeout passes), so a
+// test can prove two Python threads run the kernels together without measuring time.
+
+struct Concurrency {
+  std::mutex mutex;
+  std::condition_variable changed;
+  int inside = 0;
+  int max_inside = 0;
+  int rendezvous = 0;  // 0: off
+  double timeout_seconds = 0.0;
+};
+Concurrency& concurrency() {
+  static Concurrency c;
+  return c;
+}
+
+// Runs `work` with the GIL released, counted by the test-only counters.
+template <class Work>
+Status run_without_gil(Work&& work) {
+  py::gil_scoped_release release;
+  Concurrency& c = concurrency();
+  {
+    std::unique_lock<std::mutex> lock(c.mutex);
+    ++c.inside;
+    c.max_inside = std::max(c.max_inside, c.inside);
+    c.changed.notify_all();
+    if (c.rendezvous > 0) {
+      c.changed.wait_for(lock, std::chrono::duration<double>(c.timeout_seconds),
+                         [&c] { return c.inside >= c.rendezvous; });
+    }
+  }
+  const Status status = work();
+  {
+    std::lock_guard<std::mutex> lock(c.mutex);
+    --c.inside;
+  }
+  return status;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Results
+
+struct Result {
+  py::object color = py::none();
+  py::object depth = py::none();
+  py::object status = py::none();
+  py::object source_x = py::none();
+};
+
+struct PairResult {
+  Result left;
+  Result right;
+};
+
+// ---------------------------------------------------------------------------------------------
+// The decoder and the model from warp's keyword arguments.
+
+DepthDecoder decoder_from(const std::optional<DepthDecoder>& decoder, const std::optional<std::string>& encoding,
+                          std::optional<double> near_plane, std::optional<double> far_plane) {
+  if (decoder) {
+    if (encoding || near_plane || far_plane) {
+      throw py::value_error("decoder= cannot be used with encoding=, near= or far=");
+    }
+    return *decoder;
+  }
+  const DepthEncoding e = parse_name<DepthEncoding>(encoding.value_or("linear"), parse_encoding, "encoding");
+  if (e == DepthEncoding::linear || e == DepthEncoding::disparity) {
+    if (near_plane || far_plane) {
+      throw py::value_error(std::string("near= and far= cannot be used with the ") + to_string(e) + " encoding");
+    }
+  }
+  return DepthDecoder::from_near_far(e, near_plane.value_or(kNaN), far_plane.value_or(kNaN));
+}
+
+ParallaxModel model_from(const std::optional<ParallaxModel>& model, const DepthDecoder& decoder,
+                         std::optional<double> separation, std::optional<double> convergence,
+                         const std::optional<std::string>& direction, int width, bool pair) {
+  if (model) {
+    if (separation || convergence || direction) {
+      throw py::value_error("model= cannot be used with separation=, convergence= or direction=");
+    }
+    return *model;
+  }
+  if (decoder.encoding() == DepthEncoding::disparity) {
+    if (pair) throw py::value_error("a disparity map belongs to one eye: warp_pair needs depth, not disparity");
+    if (separation || convergence) {
+      throw py::value_error("separation= and convergence= cannot be used with a disparity map (p = -/+ disparity)");
+    }
+    return ParallaxModel::from_disparity(
+        parse_name<EyeDirection>(direction.value_or("left-to-right"), parse_direction, "direction"));
+  }
+  if (!convergence) throw py::value_error("convergence= is required (or model=, or a disparity map)");
+  const EyeDirection d = pair ? EyeDirection::centre_to_right
+                              : parse_name<EyeDirection>(direction.value_or("centre-to-right"), parse_direction,
+                                                         "direction");
+  if (pair && direction) throw py::value_error("warp_pair makes both eyes from the centre: no direction=");
+  return ParallaxModel::from_stereo(separation.value_or(0.03), *convergence, width, d);
+}
+
+Options options_from(const std::string& method, std::optional<float> max_negative_parallax, float hole_threshold,
+                     const std::string& hole_fill, const std::string& edge, int guard,
+                     std::optional<float> probe_parallax, int march_steps, int secant_max_steps,
+                     const std::optional<std::string>& arch, int threads) {
+  Options o;
+  o.method = parse_name<Method>(method, parse_method, "method");
+  o.max_negative_parallax = max_negative_parallax;
+  o.hole_threshold = hole_threshold;
+  o.hole_fill = parse_fill(hole_fill);
+  o.edge = parse_edge(edge);
+  o.guard = guard;
+  o.probe_parallax = probe_parallax;
+  o.march_steps = march_steps;
+  o.secant_max_steps = secant_max_steps;
+  if (arch) o.arch = parse_name<Arch>(*arch, parse_arch, "arch");
+  o.threads = threads;
+  return o;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inputs and outputs as views
+
+struct Source {
+  SourceView view;
+  ColorForm form = ColorForm::plane;
+  int channels = 0;
+  bool rgba = false;  // colour is interleaved RGBA
+  py::object keep;    // the planar copy of packed H x W x 2/3 colour, kept alive for the call
+};
+
+Source source_from(const py::array& color, const py::array& depth) {
+  require_dtype(color, "color");
+  require_dtype(depth, "depth");
+  if (depth.ndim() != 2) throw py::value_error("depth: expected an (H, W) array, got " + describe(depth));
+  Source s;
+  s.view.depth = plane_view<const float>(depth, 0, 1, 0, "depth");
+  s.form = color_form(color, s.view.depth.height, s.view.depth.width, "color");
+  s.channels = channel_count(color, s.form);
+  if (!color_view(color, s.form, "color", &s.view.color)) {
+    // Packed H x W x 2 or 3: the library reads planes or RGBA, so this one layout is copied.
+    py::module_ np = py::module_::import("numpy");
+    py::array planes = np.attr("ascontiguousarray")(np.attr("moveaxis")(color, -1, 0));
+    s.keep = planes;
+    color_view(planes, ColorForm::chw, "color", &s.view.color);
+  }
+  s.rgba = s.view.color.layout == ColorLayout::interleaved_rgba;
+  return s;
+}
+
+py::array new_array(std::initializer_list<py::ssize_t> shape, bool bytes = false) {
+  if (bytes) return py::array_t<std::uint8_t>(std::vector<py::ssize_t>(shape));
+  return py::array_t<float>(std::vector<py::ssize_t>(shape));
+}
+
+// A new colour output in the source's form. Packed H x W x C with C != 4 is returned as an
+// H x W x C view of C planes (numpy.moveaxis), which the library writes without a copy.
+py::array new_color(const Source& s, int height, int width) {
+  switch (s.form) {
+    case ColorForm::plane: return new_array({height, width});
+    case ColorForm::chw: return new_array({s.channels, height, width});
+    case ColorForm::hwc:
+      if (s.rgba) return new_array({height, width, 4});
+      return py::module_::import("numpy").attr("moveaxis")(new_array({s.channels, height, width}), 0, -1);
+  }
+  return py::array();
+}
+
+void check_shape(const py::array& a, std::initializer_list<py::ssize_t> shape, const char* name) {
+  bool same = a.ndim() == static_cast<py::ssize_t>(shape.size());
+  int i = 0;
+  for (py::ssize_t n : shape) same = same && a.shape(i++) == n;
+  if (!same) {
+    std::string want = "(";
+    i = 0;
+    for (py::ssize_t n : shape) want += (i++ ? ", " : "") + std::to_string(n);
+    throw py::value_error(std::string(name) + ": expected shape " + want + "), got " + describe(a));
+  }
+}
+
+// The outputs of one eye: the arrays of `out` (a Result, an array for colour alone, or None:
+// all four new) as a TargetView.
+struct Target {
+  TargetView view;
+  Result result;
+};
+
+Target target_from(const Source& s, int height, int width, const py::object& out, const char* name) {
+  Target t;
+  if (out.is_none()) {
+    t.result.color = new_color(s, height, width);
+    t.result.depth = new_array({height, width});
+    t.result.status = new_array({height, width}, true);
+    t.result.source_x = new_array({height, width});
+  } else if (py::isinstance<Result>(out)) {
+    t.result = out.cast<Result>();
+  } else if (py::isinstance<py::array>(out)) {
+    t.result.color = out;
+  } else {
+    throw py::type_error(std::string(name) + ": expected a Result, a float32 array or None");
+  }
+  const std::string prefix = std::string(name) + ".";
+  const py::array color = py::array::ensure(t.result.color);
+  if (!color) throw py::type_error(prefix + "color: expected a float32 array");
+  require_dtype(color, (prefix + "color").c_str());
+  require_writeable(color, (prefix + "color").c_str());
+  const ColorForm form = color_form(color, height, width, (prefix + "color").c_str());
+  if (form != s.form || channel_count(color, form) != s.channels) {
+    throw py::value_error(prefix + "color: " + describe(color) + " is not laid out like the source colour");
+  }
+  if (!color_view(color, form, (prefix + "color").c_str(), &t.view.color)) {
+    throw py::value_error(prefix + "color: " + describe(color) +
+                          " packs its pixels, which the library cannot write in place: pass the Result of an earlier "
+                          "call, or numpy.moveaxis of a (C, H, W) array");
+  }
+  auto float_plane = [&](const py::object& o, const char* field) {
+    MutableFloatPlane plane;
+    if (o.is_none()) return plane;
+    const std::string label = prefix + field;
+    const py::array a = py::array::ensure(o);
+    if (!a) throw py::type_error(label + ": expected a float32 array");
+    require_dtype(a, label.c_str());
+    require_writeable(a, label.c_str());
+    check_shape(a, {height, width}, label.c_str());
+    return plane_view<float>(a, 0, 1, 0, label.c_str());
+  };
+  t.view.depth = float_plane(t.result.depth, "depth");
+  t.view.source_x = float_plane(t.result.source_x, "source_x");
+  if (!t.result.status.is_none()) {
+    const std::string label = prefix + "status";
+    const py::array a = py::array::ensure(t.result.status);
+    if (!a) throw py::type_error(label + ": expected a uint8 array");
+    require_dtype(a, label.c_str(), true);
+    require_writeable(a, label.c_str());
+    check_shape(a, {height, width}, label.c_str());
+    t.view.status = plane_view<std::uint8_t>(a, 0, 1, 0, label.c_str());
+  }
+  return t;
+}
+
+// The target's size: the source's less the guard band (the library refuses a guard too wide).
+int target_width(const Source& s, int guard) {
+  const int width = s.view.depth.width - 2 * guard;
+  if (guard < 0 || width < 0) {
+    throw py::value_error("guard " + std::to_string(guard) + " leaves no target columns of a source " +
+                          std::to_string(s.view.depth.width) + " wide");
+  }
+  return width;
+}
+
+// ---------------------------------------------------------------------------------------------
+// warp and warp_pair
+
+#define REPROJECT_WARP_PARAMETERS                                                                                 \
+  const std::optional<std::string>&encoding, std::optional<double> near_plane, std::optional<double> far_plane,    \
+      const std::optional<DepthDecoder>&decoder, std::optional<double> separation,                                \
+      std::optional<double> convergence, const std::optional<std::string>&direction,                              \
+      const std::optional<ParallaxModel>&model, const std::string &method,                                         \
+      std::optional<float> max_negative_parallax, float hole_threshold, const std::string &hole_fill,             \
+      const std::string &edge, int guard, std::optional<float> probe_parallax, int march_steps,                    \
+      int secant_max_steps, const std::optional<std::string>&arch, int threads
+
+Result warp(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS, const py::object& out) {
+  const Source s = source_from(color, depth);
+  const DepthDecoder d = decoder_from(decoder, encoding, near_plane, far_plane);
+  const Options o = options_from(method, max_negative_parallax, hole_threshold, hole_fill, edge, guard, probe_parallax,
+                                 march_steps, secant_max_steps, arch, threads);
+  const int width = target_width(s, guard);
+  const ParallaxModel m = model_from(model, d, separation, convergence, direction, width, false);
+  Target t = target_from(s, s.view.depth.height, width, out, "out");
+  raise_if_failed(run_without_gil([&] { return reproject::reproject(s.view, d, m, o, t.view); }));
+  return t.result;
+}
+
+PairResult warp_pair(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS,
+                     const py::object& out_left, const py::object& out_right) {
+  const Source s = source_from(color, depth);
+  const DepthDecoder d = decoder_from(decoder, encoding, near_plane, far_plane);
+  const Options o = options_from(method, max_negative_parallax, hole_threshold, hole_fill, edge, guard, probe_parallax,
+                                 march_steps, secant_max_steps, arch, threads);
+  const int width = target_width(s, guard);
+  const ParallaxModel m = model_from(model, d, separation, convergence, direction, width, true);
+  Target left = target_from(s, s.view.depth.height, width, out_left, "out_left");
+  Target right = target_from(s, s.view.depth.height, width, out_right, "out_right");
+  raise_if_failed(
+      run_without_gil([&] { return reproject::reproject_pair(s.view, d, m, o, left.view, right.view); }));
+  return PairResult{left.result, right.result};
+}
+
+const char* kWarpDoc = R"doc(warp(color, depth, *, encoding, near, far, separation, convergence, direction, method, ...) -> Result
+
+Synthesises another eye from one view (colour + depth): reproject() of reproject.hpp.
+
+color: float32, (H, W), (H, W, C) or (C, H, W) with C = 1..4. Planes and (H, W, 4) arrays whose
+  columns are consecutive are read in place (any row stride, crops included); packed (H, W, 2|3)
+  colour (Pillow's layout) is copied once into planes, since the library has no such layout.
+  Anything else (e.g. a[:, ::2]) raises ValueError.
+depth: float32 (H, W), read in place under the same rule.
+Depth decoder: encoding= (linear, standard, gl_ndc, reversed, reversed_infinite, infinite,
+  disparity) with near=, far=; or decoder=Decoder.
+Parallax: separation= (default 0.03), convergence=, direction= (default centre-to-right; for a
+  disparity map p = -d, left-to-right); or model=ParallaxModel.
+Options as keyword arguments with the C++ names and defaults: method='exact',
+  max_negative_parallax=None, hole_threshold=1.0, hole_fill='background', edge='clamp', guard=0,
+  probe_parallax=None, march_steps=16, secant_max_steps=256, arch=None, threads=0.
+out: None (new arrays), a Result of an earlier call (written in place: no allocation), or a colour
+  array (then only colour is written).
+Returns a Result: color (the source's form), depth (H, W), status (uint8: 0 hit, 1 hole,
+2 outside, 3 clipped), source_x. The GIL is released while the kernels run.
+Errors: TypeError for a wrong dtype; ValueError with the library's message for everything else.)doc";
+
+// Adds the keyword arguments shared by warp and warp_pair, in the same order as the parameters.
+template <class Function, class... Extra>
+void def_warp(py::module_& m, const char* name, Function function, const char* doc, Extra... extra) {
+  m.def(name, function, py::arg("color"), py::arg("depth"), py::kw_only(), py::arg("encoding") = py::none(),
+        py::arg("near") = py::none(), py::arg("far") = py::none(), py::arg("decoder") = py::none(),
+        py::arg("separation") = py::none(), py::arg("convergence") = py::none(), py::arg("direction") = py::none(),
+        py::arg("model") = py::none(), py::arg("method") = "exact", py::arg("max_negative_parallax") = py::none(),
+        py::arg("hole_threshold") = 1.0f, py::arg("hole_fill") = "background", py::arg("edge") = "clamp",
+        py::arg("guard") = 0, py::arg("probe_parallax") = py::none(), py::arg("march_steps") = 16,
+        py::arg("secant_max_steps") = 256, py::arg("arch") = py::none(), py::arg("threads") = 0, extra..., doc);
+}
+
+}  // namespace
+
+void bind_core(py::module_& m) {
+  py::class_<Result>(m, "Result", "One eye's outputs: color, depth, status (uint8), source_x (float32).")
+      .def(py::init<>())
+      .def_readwrite("color", &Result::color)
+      .def_readwrite("depth", &Result::depth)
+      .def_readwrite("status", &Result::status)
+      .def_readwrite("source_x", &Result::source_x)
+      .def("__repr__", [](const Result& r) {
+        // Shapes and dtypes, not the pixels.
+        auto field = [](const char* name, const py::object& o) {
+          if (o.is_none()) return std::string(name) + "=None";
+          return std::string(name) + "=<" + py::str(o.attr("dtype")).cast<std::string>() + " " +
+                 py::str(o.attr("shape")).cast<std::string>() + ">";
+        };
+        return "Result(" + field("color", r.color) + ", " + field("depth", r.depth) + ", " +
+               field("status", r.status) + ", " + field("source_x", r.source_x) + ")";
+      });
+  py::class_<PairResult>(m, "PairResult", "Both eyes' Results; unpacks as (left, right).")
+      .def_readwrite("left", &PairResult::left)
+      .def_readwrite("right", &PairResult::right)
+      .def("__iter__", [](const PairResult& p) { return py::iter(py::make_tuple(p.left, p.right)); });
+
+  def_warp(m, "warp", &warp, kWarpDoc, py::arg("out") = py::none());
+  def_warp(m, "warp_pair", &warp_pair,
+           "warp_pair(color, depth, *, ...) -> PairResult\n\nThe centre view to both eyes in one call "
+           "(reproject_pair): the right eye with sigma = +1/2 of the stereo camera (or model=, the centre-to-right "
+           "model), the left with its mirror. Arguments as warp(), without direction=; out_left=, out_right= as out=.",
+           py::arg("out_left") = py::none(), py::arg("out_right") = py::none());
+
+  m.def("arch_supported", [](const std::string& arch) { return arch_supported(parse_name<Arch>(arch, parse_arch, "arch")); },
+        py::arg("arch"), "Whether the kernels for `arch` (scalar, sse, avx2, avx512) are compiled in and this CPU runs them.");
+  m.def("selected_arch", [] { return std::string(to_string(selected_arch())); },
+        "The instruction set calls use when arch= is unset (REPROJECT_FORCE_ARCH overrides the choice).");
+  m.attr("methods") = py::make_tuple("scanline", "march16", "single", "secant", "exact");
+
+  m.def("_debug_max_concurrent_calls", [] {
+    std::lock_guard<std::mutex> lock(concurrency().mutex);
+    return concurrency().max_inside;
+  }, "Test only: the most calls that were inside the library (GIL released) at once since the last reset.");
+  m.def("_debug_reset_counters", [](int rendezvous, double timeout_seconds) {
+    std::lock_guard<std::mutex> lock(concurrency().mutex);
+    concurrency().max_inside = concurrency().inside;
+    concurrency().rendezvous = rendezvous;
+    concurrency().timeout_seconds = timeout_seconds;
+  }, py::arg("rendezvous") = 0, py::arg("timeout_seconds") = 0.0,
+        "Test only: resets the counter; with rendezvous = n, each call waits (GIL released, at most timeout_seconds) "
+        "until n calls are inside.");
+}
+
+}  // namespace reproject::python
+
+PYBIND11_MODULE(reproject, m) {
+  m.doc() = "reproject: horizontal stereo reprojection (synthesise the other eye from colour + depth) over NumPy arrays.";
+  reproject::python::bind_models(m);
+  reproject::python::bind_core(m);
+  reproject::python::bind_stereo(m);
+  reproject::python::bind_scenes(m);
+}
