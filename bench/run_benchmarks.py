@@ -8,7 +8,8 @@
 The benchmark runs with --benchmark_repetitions=N --benchmark_report_aggregates_only=true
 --benchmark_format=json; its JSON is kept (--out) with a "reproject_run" record added (the
 command, CPU, compiler, load), so the page can be regenerated from it later. Every figure on the
-page is the median of the N repetitions. Standard library only.
+page is the median of the N repetitions. The page's chart (docs/performance.png) is drawn with
+matplotlib (Debian: python3-matplotlib); without it the page is written without the chart.
 """
 
 import argparse
@@ -269,6 +270,49 @@ def table(header, rows, align=None):
     return "\n".join(lines)
 
 
+# --- The chart ---------------------------------------------------------------------------------------
+
+def draw_chart(r, present, cpu_model, png_path):
+    """Mpix/s per method and arch at 1 and 2 threads (1080p planar RGBA), the roofline marked.
+    Returns False (and says why) when matplotlib is missing."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("run_benchmarks.py: matplotlib not found (apt-get install python3-matplotlib): no chart", file=sys.stderr)
+        return False
+    colours = {"scalar": "#9e9e9e", "sse": "#64b5f6", "avx2": "#1e88e5", "avx512": "#0d47a1"}
+    fig, axes = plt.subplots(1, len(THREADS), figsize=(11, 4.2), sharey=True)
+    width = 0.8 / max(1, len(present))
+    top = 0.0
+    for ax, threads in zip(axes, THREADS):
+        for k, arch in enumerate(present):
+            values = [r.mpix(name(m, arch, FULL_HD, threads)) or 0.0 for m in METHODS]
+            xs = [i + (k - (len(present) - 1) / 2) * width for i in range(len(METHODS))]
+            bars = ax.bar(xs, values, width, label=arch, color=colours.get(arch, "#444444"))
+            ax.bar_label(bars, labels=["%.0f" % v if v else "" for v in values], fontsize=6, padding=1)
+            top = max(top, max(values))
+        roof = r.mpix(roofline(FULL_HD, threads))
+        if roof:
+            ax.axhline(roof, color="#c62828", linestyle="--", linewidth=1.2)
+            ax.text(len(METHODS) - 0.5, roof, "roofline %.0f Mpix/s (memory speed)" % roof, color="#c62828",
+                    ha="right", va="bottom", fontsize=8)
+            top = max(top, roof)
+        ax.set_xticks(range(len(METHODS)))
+        ax.set_xticklabels(METHODS)
+        ax.set_title("%d thread%s" % (threads, "s" if threads > 1 else ""))
+        ax.grid(axis="y", alpha=0.3)
+    axes[0].set_ylabel("Mpix/s (1920x1080, planar RGBA; higher is better)")
+    axes[0].set_ylim(0, top * 1.12)
+    axes[-1].legend(title="instruction set", fontsize=8, loc="upper left")
+    fig.suptitle("reproject: speed per method and instruction set — %s" % cpu_model, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=110)
+    plt.close(fig)
+    return True
+
+
 # --- The page --------------------------------------------------------------------------------------
 
 def write_page(data, json_path, doc_path):
@@ -316,9 +360,10 @@ def write_page(data, json_path, doc_path):
                                                           if c.get("num_sharing") else "") for c in caches))
     w("* Instruction sets: %s. %s" % (
         ", ".join(present) or "none",
-        "This machine has AVX2 but no AVX-512: the AVX-512 rows are absent (not registered)."
-        if cpu.get("avx2") and not cpu.get("avx512f") else
-        ("AVX-512 present." if cpu.get("avx512f") else "No AVX2.")))
+        "This machine has AVX2 but no AVX-512: the AVX-512 rows are absent (not registered); take them "
+        "on a machine that has it." if cpu.get("avx2") and not cpu.get("avx512f") else
+        ("AVX-512 present: every table has its AVX-512 rows beside the AVX2 ones (each set is run "
+         "explicitly, `Options::arch`, in the same binary)." if cpu.get("avx512f") else "No AVX2.")))
     if run_info.get("revision"):
         w("* Source: %s" % run_info["revision"])
     w("* Compiler: %s, %s build%s" % (build.get("compiler", "unknown"), build.get("build_type", "unknown"),
@@ -346,6 +391,15 @@ def write_page(data, json_path, doc_path):
         w("* Noise: median coefficient of variation over the repetitions %.1f %%, worst %.1f %%." % (
             100 * statistics.median(cvs), 100 * max(cvs)))
     w("")
+    png = os.path.join(os.path.dirname(os.path.abspath(doc_path)), "performance.png")
+    if draw_chart(r, present, cpu.get("model", "unknown CPU"), png):
+        w("![Mpix/s per method and instruction set at 1 and 2 threads, 1080p planar RGBA, with the roofline](%s)"
+          % os.path.basename(png))
+        w("")
+        w("*The chart: 1080p planar RGBA, median Mpix/s of every method on every instruction set at 1 and 2 "
+          "threads; the dashed line is the roofline (a plain copy of the same bytes). Measured on %s.*" %
+          cpu.get("model", "unknown CPU"))
+        w("")
 
     # Threads: honoured or not. The calling thread's CPU time halves when the library really
     # splits the rows over two threads (it does half the rows), whatever the contention.
@@ -398,6 +452,30 @@ def write_page(data, json_path, doc_path):
                   r.mpix(name("march16", "scalar", GREY_SIZE, 1, "/grey"))) if arch else None
     target("/grey march16 (512x512, in cache), best arch: ≥ 10× scalar", "%s× (%s)" % (fmt(value, 2), arch),
            None if value is None else value >= 10.0)
+    if "avx512" in present:
+        value = ratio(r.mpix(name("march16", "avx512", GREY_SIZE, 1, "/grey")),
+                      r.mpix(name("march16", "scalar", GREY_SIZE, 1, "/grey")))
+        target("/grey march16 (512x512, in cache), AVX-512: ≥ 10× scalar", "%s×" % fmt(value, 2),
+               None if value is None else value >= 10.0)
+        for method in METHODS:
+            for threads in THREADS:
+                t512, t2 = r.ms(name(method, "avx512", FULL_HD, threads)), r.ms(name(method, "avx2", FULL_HD, threads))
+                value = ratio(t512, t2)
+                target("%s, 1080p, %d thread%s: AVX-512 time ≤ AVX2 time" % (method, threads, "s" if threads > 1 else ""),
+                       "%s× (%s vs %s ms)" % (fmt(value, 2), fmt(t512, 2), fmt(t2, 2)),
+                       None if value is None else value <= 1.0)
+    for threads in THREADS:
+        arch = best_arch("exact", threads=threads)
+        value = ratio(r.ms(name("exact", arch, FULL_HD, threads, "/near:fixed")), r.ms(name("exact", arch, FULL_HD, threads))) if arch else None
+        target("exact, 1080p, %d thread%s: fixed near limit |a|/2 ≤ 1.1× the frame's own" % (threads, "s" if threads > 1 else ""),
+               "%s× (%s)" % (fmt(value, 2), arch), None if value is None else value <= 1.1)
+    for method in METHODS:
+        for threads, limit in ((1, 0.75), (2, 0.8)):
+            arch = best_arch(method, threads=threads)
+            value = ratio(r.ms(name("pair_" + method, arch, FULL_HD, threads)),
+                          r.ms(name("pair_" + method, arch, FULL_HD, threads, "/two_calls"))) if arch else None
+            target("pair_%s, 1080p, %d thread%s: ≤ %.2f× two single-eye calls" % (method, threads, "s" if threads > 1 else "", limit),
+                   "%s× (%s)" % (fmt(value, 2), arch), None if value is None else value <= limit)
     for method in METHODS:
         arch = best_arch(method, threads=2)
         value = ratio(r.mpix(name(method, arch, FULL_HD, 2)), r.mpix(name(method, arch, FULL_HD, 1))) if arch else None
@@ -434,6 +512,8 @@ def write_page(data, json_path, doc_path):
 
     # --- 1080p planar RGBA ---
     w("## 1080p, planar RGBA (4 float planes)")
+    w("")
+    w("Measured on %s (every table on this page comes from this one run on this CPU)." % cpu.get("model", "unknown CPU"))
     w("")
     rf1, rf2 = roofline(FULL_HD, 1), roofline(FULL_HD, 2)
 
@@ -542,19 +622,41 @@ def write_page(data, json_path, doc_path):
     # --- Pair ---
     w("## Centre → both eyes (`pair_`, `reproject_pair`, 1080p planar RGBA)")
     w("")
-    w("Mpix/s counts both eyes' pixels. \"÷ 2 single\" is the pair's time over twice the one-eye time of")
-    w("the same method and arch: 1 means the pair call costs what two single-eye calls cost, below 1")
-    w("that it shares work between the eyes.")
+    w("Mpix/s counts both eyes' pixels. \"÷ two calls\" is the pair's time over that of two single-eye")
+    w("calls for the same eyes (`pair_<method>/.../two_calls`: the left eye with the mirrored model, then")
+    w("the right), in the same binary: below 1 the pair shares work between the eyes (each source row read")
+    w("from memory once, one near pass). Measured on %s." % cpu.get("model", "unknown CPU"))
     w("")
     rows = []
     for method in METHODS:
         for arch in present:
             p1, p2 = name("pair_" + method, arch, FULL_HD, 1), name("pair_" + method, arch, FULL_HD, 2)
-            rows.append([method, arch, fmt(r.ms(p1), 2), fmt(r.mpix(p1)), fmt(r.mpix(p2)),
-                         fmt(ratio(r.ms(p1), 2 * r.ms(name(method, arch, FULL_HD, 1)) if r.ms(name(method, arch, FULL_HD, 1)) else None), 2),
-                         fmt(ratio(r.ms(p2), 2 * r.ms(name(method, arch, FULL_HD, 2)) if r.ms(name(method, arch, FULL_HD, 2)) else None), 2)])
-    w(table(["method", "arch", "ms 1T", "Mpix/s 1T", "Mpix/s 2T", "÷ 2 single 1T", "÷ 2 single 2T"], rows,
-            ["l", "l"] + ["r"] * 5))
+            c1, c2 = name("pair_" + method, arch, FULL_HD, 1, "/two_calls"), name("pair_" + method, arch, FULL_HD, 2, "/two_calls")
+            rows.append([method, arch, fmt(r.ms(p1), 2), fmt(r.ms(c1), 2), fmt(ratio(r.ms(p1), r.ms(c1)), 2),
+                         fmt(r.ms(p2), 2), fmt(r.ms(c2), 2), fmt(ratio(r.ms(p2), r.ms(c2)), 2),
+                         fmt(ratio(r.ms(p2), r.ms(rf2) * 2 * 62.0 / 82.0) if r.ms(rf2) else None, 2)])
+    w(table(["method", "arch", "pair ms 1T", "two calls ms 1T", "÷ two calls 1T", "pair ms 2T", "two calls ms 2T",
+             "÷ two calls 2T", "pair ÷ its roofline 2T"], rows, ["l", "l"] + ["r"] * 7))
+    w("")
+    w("\"pair ÷ its roofline\": the pair's own bytes are 62 B/px of one eye (the source's 20 read once, two")
+    w("eyes' 21 written), so its roofline is the one-eye roofline × 2 × 62 / 82.")
+    w("")
+
+    # --- Fixed near limit ---
+    w("## A fixed near limit (`/near:fixed`, 1080p planar RGBA)")
+    w("")
+    w("`max_negative_parallax = |a| / 2`, as an engine sets it, instead of the frame's own nearest parallax.")
+    w("`exact` then clips what is nearer (its SIMD sweep masks those pixels); the searching methods start")
+    w("their rays there. \"÷ own\" is the time over the same method's with the frame's own limit. Measured")
+    w("on %s." % cpu.get("model", "unknown CPU"))
+    w("")
+    rows = []
+    for method in METHODS:
+        for arch in present:
+            f1, f2 = name(method, arch, FULL_HD, 1, "/near:fixed"), name(method, arch, FULL_HD, 2, "/near:fixed")
+            rows.append([method, arch, fmt(r.ms(f1), 2), fmt(ratio(r.ms(f1), r.ms(name(method, arch, FULL_HD, 1))), 2),
+                         fmt(r.ms(f2), 2), fmt(ratio(r.ms(f2), r.ms(name(method, arch, FULL_HD, 2))), 2)])
+    w(table(["method", "arch", "ms 1T", "÷ own 1T", "ms 2T", "÷ own 2T"], rows, ["l", "l"] + ["r"] * 4))
     w("")
 
     # --- Observations: computed, so they stay true when the numbers change ---
