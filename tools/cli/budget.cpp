@@ -235,6 +235,10 @@ int run_budget(int argc, char** argv) {
     flags.bad_value("separation", "0 is no stereo; the eye separation then needs --interocular and --screen-width");
   }
 
+  OutputSet out;
+  out.inputs(flags, {"depth"});
+  out.outputs(flags, {"histogram"});
+
   // ---- The depth -------------------------------------------------------------------------------------
   if (file_mode) {
     DepthFile file = load_depth(flags, decoder);
@@ -302,7 +306,6 @@ int run_budget(int argc, char** argv) {
   std::vector<std::int64_t> counts(static_cast<std::size_t>(bins), 0);
   check_status(parallax_budget(depth.plane(0), decoder, camera, options, &b, counts.data()), "parallax_budget");
 
-  OutputSet out;
   if (flags.has("histogram")) {
     const Image picture = histogram_picture(b, counts, marks, keys, half_convergence_p, far_p,
                                             "parallax histogram, " + std::to_string(b.display_width) + " px wide, " +
