@@ -217,7 +217,7 @@ void OutputSet::expect(const std::string& flag, const std::string& path) {
   const std::string temporary = sibling(path, "tmp", staged_.size());
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) {
-    fail(kExitOutput, "cannot create a temporary file next to '" + path + "': " + std::strerror(errno));
+    fail(kExitOutput, "cannot write '" + path + "': " + std::strerror(errno));
   }
   ::close(fd);
   io::track_temporary(temporary);

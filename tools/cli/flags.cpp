@@ -148,7 +148,7 @@ double Flags::number(const char* name, double fallback, double min, double max, 
   char* end = nullptr;
   errno = 0;
   const double value = std::strtod(v.c_str(), &end);
-  if (!is_decimal(v, false) || end == v.c_str() || *end != '\0' || !std::isfinite(value)) bad_value(name, "'" + v + "' is not a finite number");
+  if (!is_decimal(v, false) || end == v.c_str() || *end != '\0' || !std::isfinite(value)) bad_value(name, "'" + v + "' is not a decimal number");
   if (value < min || value > max || (min_open && value == min)) {
     // %g: "0", "1e+09", "0.5" rather than std::to_string's six decimals.
     auto text_of = [](double x) {

@@ -66,10 +66,12 @@ class FileInput final : public Imf::IStream {
     return static_cast<std::uint64_t>(position);
   }
   void seekg(std::uint64_t position) override {
-    // Seeking past the end succeeds; the read that follows reports the truncation.
-    if (position > static_cast<std::uint64_t>(LONG_MAX) ||
-        std::fseek(file_, static_cast<long>(position), SEEK_SET) != 0) {
-      throw Iex::IoExc("cannot seek");
+    // Seeking past the end succeeds; the read that follows reports the truncation. An offset
+    // beyond any possible file (a damaged or cut offset table: the system refuses the seek) is
+    // reported as the file ending too.
+    if (position > static_cast<std::uint64_t>(LONG_MAX) || std::fseek(file_, static_cast<long>(position), SEEK_SET) != 0) {
+      ended_ = true;
+      throw Iex::InputExc("an offset beyond the end of the file");
     }
   }
   void clear() override { std::clearerr(file_); }
