@@ -319,6 +319,7 @@ void OutputSet::commit() {
   struct Step {
     std::string backup;  // empty: no old file, or it could not be linked (no undo for that one)
     bool existed = false;
+    bool renamed = false;
   };
   std::vector<Step> steps(staged_.size());
   std::string error_text;
@@ -327,6 +328,11 @@ void OutputSet::commit() {
   for (; done < staged_.size(); ++done) {
     const Staged& s = staged_[done];
     Step& step = steps[done];
+    if (!s.written) {  // reserved but never written (a command's plan changed): not an output
+      ::unlink(s.temporary.c_str());
+      io::untrack_temporary(s.temporary);
+      continue;
+    }
     struct stat old = {};
     if (::stat(s.destination.c_str(), &old) == 0 && S_ISREG(old.st_mode)) {
       step.existed = true;
@@ -341,10 +347,12 @@ void OutputSet::commit() {
       error_text = "cannot rename a temporary file onto '" + s.destination + "': " + std::strerror(errno);
       break;
     }
+    step.renamed = true;
     io::untrack_temporary(s.temporary);
   }
   if (!error_text.empty()) {
-    for (std::size_t i = 0; i < done; ++i) {  // undo, newest first does not matter: distinct files
+    for (std::size_t i = 0; i < done; ++i) {  // undo; the order does not matter: distinct files
+      if (!steps[i].renamed) continue;
       if (!steps[i].backup.empty()) {
         ::rename(steps[i].backup.c_str(), staged_[i].destination.c_str());
       } else if (!steps[i].existed) {
