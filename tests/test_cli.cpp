@@ -1131,6 +1131,8 @@ TEST(CliSafety, OutputTargetsCheckedBeforeWork) {
   expect_error(warp + " --out o/a.png --out-depth o/isdir.pfm --status o/st.png", 4, "cannot write 'o/isdir.pfm': it is a directory");
   expect_error(std::string("pair ") + kWarpFlags + " --out-left o/a.png --side-by-side o/isdir.png", 4,
                "cannot write 'o/isdir.png': it is a directory");
+  expect_error(std::string("compare ") + kWarpFlags + " --repeats 1 --threads 1 --methods exact --json /dev/null", 4,
+               "cannot write '/dev/null': it is not a regular file");
   EXPECT_EQ(bytes_of("o/a.png"), "old");
   EXPECT_FALSE(fs::exists(path("o/st.png")));
   for (const auto& entry : fs::directory_iterator(path("o"))) {

@@ -210,8 +210,11 @@ void OutputSet::expect(const std::string& flag, const std::string& path) {
   for (const Staged& s : staged_) {
     if (same_destination(s.destination, path)) fail(kExitUsage, "'" + path + "' is named as more than one output");
   }
-  std::error_code error;
-  if (fs::is_directory(path, error)) fail(kExitOutput, "cannot write '" + path + "': it is a directory");
+  // Only regular files are replaced: a rename would put a file in place of a device or a pipe.
+  struct stat target = {};
+  if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode)) {
+    fail(kExitOutput, "cannot write '" + path + "': it is " + (S_ISDIR(target.st_mode) ? "a directory" : "not a regular file"));
+  }
   // Reserve the temporary file now: that proves the directory exists and is writable before any
   // work is done, and the name stays ours until commit() or the destructor.
   const std::string temporary = sibling(path, "tmp", staged_.size());
