@@ -391,20 +391,17 @@ IoStatus read_exr_file(const std::string& path, LoadedImage* out, const ExrReadO
     return (color_names.empty() || !color->empty()) && (depth_name.empty() || !depth->empty());
   };
 
-  // The rows stored last first, into a small band (the last rows, unless the file stores them
-  // bottom to top): so a file cut short, or whose data window promises more rows than it stores, fails here, before the whole
-  // image is allocated.
+  // The last row stored first (the bottom one, unless the file stores them bottom to top), into
+  // a one-row band: a file cut short, or whose data window promises more than it stores, fails
+  // here, before the image is allocated. (OpenEXR still allocates what it needs to decompress the
+  // chunk that row is in.)
   {
-    const int band = std::min(h, 64);
-    Image color_band, depth_band;
-    if (!allocate(band, &color_band, &depth_band)) {
+    const int y = header.lineOrder() == Imf::DECREASING_Y ? window.min.y : window.max.y;
+    Image color_row, depth_row;
+    if (!allocate(1, &color_row, &depth_row)) {
       return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
     }
-    if (header.lineOrder() == Imf::DECREASING_Y) {
-      read_rows(&color_band, &depth_band, window.min.y, window.min.y + band - 1);
-    } else {
-      read_rows(&color_band, &depth_band, window.max.y - band + 1, window.max.y);
-    }
+    read_rows(&color_row, &depth_row, y, y);
   }
   Image color;
   Image depth;
