@@ -160,6 +160,29 @@ def exr_seeds():
     write("exr", "truncated.exr", good[: len(good) - 6])
 
 
+# ---- A whole warp: colour and depth files together (fuzz_warp.cpp's layout) ------------------
+
+def warp_input(color_format, depth_format, method, camera, color, depth):
+    """formats: 0 PNG, 1 PFM, 2 EXR; method 0..4; camera 0 linear, 1 standard, 2 disparity."""
+    return bytes([color_format + 3 * depth_format, method + 5 * camera]) + struct.pack("<H", len(color)) + color + depth
+
+
+def warp_seeds():
+    ramp = lambda x, y, i: 30 * x + 50 * y + 80 * i
+    rgb_png = png(4, 2, 8, 2, raw_rows(4, 2, 3, ramp))
+    grey16_png = png(4, 2, 16, 0, raw_rows(4, 2, 2, lambda x, y, i: (x + 1) * 3 if i else 0))
+    depth_pfm = pfm(b"Pf", 4, 2, b"-1.0", [1.0, 2.0, 4.0, float("nan"), 8.0, 3.0, 2.0, 1.5], "<")
+    rgb_pfm = pfm(b"PF", 4, 2, b"-1.0", [0.1 * i for i in range(24)], "<")
+    write("warp", "png_pfm_linear", warp_input(0, 1, 0, 0, rgb_png, depth_pfm))
+    write("warp", "pfm_png_disparity", warp_input(1, 0, 2, 2, rgb_pfm, grey16_png))
+    write("warp", "exr_exr_standard", warp_input(2, 2, 4, 1, exr(3, 2, [(b"B", 1), (b"G", 1), (b"R", 1)]),
+                                                 exr(3, 2, [(b"Z", 2)])))
+    write("warp", "exr_with_z_pfm_secant", warp_input(2, 1, 4, 0, exr(3, 2, [(b"A", 2), (b"B", 2), (b"G", 2), (b"R", 2), (b"Z", 2)]),
+                                                      pfm(b"Pf", 3, 2, b"1.0", [5.0] * 6, ">")))
+    write("warp", "sizes_differ", warp_input(0, 1, 1, 0, rgb_png, pfm(b"Pf", 2, 2, b"-1.0", [1.0] * 4, "<")))
+    write("warp", "depth_truncated", warp_input(0, 1, 3, 1, rgb_png, depth_pfm[:-5]))
+
+
 # ---- CLI arguments (NUL-separated, after "reproject warp") --------------------------------------
 
 def cli_seeds():
@@ -185,3 +208,4 @@ if __name__ == "__main__":
     png_seeds()
     pfm_seeds()
     exr_seeds()
+    warp_seeds()

@@ -2,6 +2,10 @@
 // executable as a user would, on files the tool itself writes from the built-in scenes, and check
 // exit codes, messages and the files written. Also the built-in scenes' separate variants.
 #include <gtest/gtest.h>
+#include <png.h>
+#include <zlib.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,7 +14,10 @@
 #include <cstring>
 #include <cmath>
 #include <cstdio>
+#include <csetjmp>
 #include <cstdlib>
+#include <chrono>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -19,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "cli.hpp"
 #include "imageio/imageio.hpp"
 #include "scene.hpp"
 
@@ -58,11 +66,13 @@ const fs::path& scratch() {
 
 // Runs `reproject <args>` through the shell, from the scratch directory (arguments here never
 // hold spaces or quotes).
-CliRun run(const std::string& args) {
+// `shell_prefix` runs first in the same shell (e.g. "ulimit -v 500000 && "), so that a limit binds
+// the tool and not the test.
+CliRun run(const std::string& args, const std::string& shell_prefix = "") {
   static int serial = 0;
   const fs::path out = scratch() / ("stdout" + std::to_string(serial));
   const fs::path err = scratch() / ("stderr" + std::to_string(serial++));
-  const std::string command = "cd '" + scratch().string() + "' && '" + std::string(REPROJECT_CLI) + "' " + args + " > '" +
+  const std::string command = "cd '" + scratch().string() + "' && " + shell_prefix + "'" + std::string(REPROJECT_CLI) + "' " + args + " > '" +
                               out.string() + "' 2> '" + err.string() + "'";
   const int status = std::system(command.c_str());
   CliRun r;
@@ -979,7 +989,7 @@ TEST(CliErrors, Input) {
 TEST(CliErrors, OutputAllOrNothing) {
   ensure_room();
   const std::string warp = std::string("warp ") + kWarpFlags;
-  expect_error(warp + " --out no-such-dir/x.png", 4, "cannot create a temporary file next to 'no-such-dir/x.png'");
+  expect_error(warp + " --out no-such-dir/x.png", 4, "cannot write 'no-such-dir/x.png': No such file or directory");
   expect_error(warp + " --out first.png --out-depth first.pfm --status no-such-dir/s.png", 4, "");
   EXPECT_FALSE(fs::exists(scratch() / "first.png"));
   EXPECT_FALSE(fs::exists(scratch() / "first.pfm"));
@@ -988,7 +998,7 @@ TEST(CliErrors, OutputAllOrNothing) {
   expect_error("compare --scene edge --width 64 --height 36 --repeats 1 --threads 1 --json occ.json --images occupied", 4, "");
   EXPECT_FALSE(fs::exists(scratch() / "occ.json"));
   expect_error("budget --scene edge --width 64 --height 36 --histogram no-such-dir/h.png", 4,
-               "cannot create a temporary file next to 'no-such-dir/h.png'");
+               "cannot write 'no-such-dir/h.png': No such file or directory");
   // Nothing half-written anywhere: no temporary file survives a failed command.
   for (const auto& entry : fs::recursive_directory_iterator(scratch())) {
     EXPECT_EQ(entry.path().filename().string().find(".reproject-tmp"), std::string::npos) << entry.path();
@@ -1007,4 +1017,325 @@ TEST(CliErrors, Runtime) {
                "reproject: invalid_size: source depth: width 4194305 is above the maximum");
   EXPECT_FALSE(fs::exists(scratch() / "wide-out.pfm"));
   fs::remove(scratch() / "wide.pfm");
+}
+
+// ===================================================================================================
+// Safety: the tool pointed at real files, as a user and as an adversary would (issue 11).
+
+namespace {
+
+bool under_address_sanitizer() {
+#if defined(__SANITIZE_ADDRESS__)
+  return true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return true;
+#endif
+#endif
+  return false;
+}
+
+// An address-space limit for the tool only (its shell's ulimit), in KiB: enough to run, far too
+// little for a 16384x16384 image, so that a regression fails instead of swapping.
+const char* const kMemoryLimit = "ulimit -v 600000 && ";
+#define SKIP_UNDER_ASAN()                                                                                   \
+  if (under_address_sanitizer()) GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space, " \
+                                                 "so an address-space limit (ulimit -v) cannot be tested under it"
+
+std::string bytes_of(const std::string& file) { return slurp(path(file)); }
+
+// A valid PNG of zeros, written a row at a time: a large frame costs neither memory nor disk.
+void write_zero_png(const std::string& file, int width, int height, int color_type, int bits) {
+  const int channels = color_type == PNG_COLOR_TYPE_RGB_ALPHA ? 4 : color_type == PNG_COLOR_TYPE_RGB ? 3 : 1;
+  std::FILE* f = std::fopen(path(file).c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  png_bytep row = static_cast<png_bytep>(std::calloc(static_cast<std::size_t>(width) * channels * bits / 8, 1));
+  bool ok = false;
+  if (setjmp(png_jmpbuf(png)) == 0) {
+    png_init_io(png, f);
+    png_set_user_limits(png, 0x7fffffff, 0x7fffffff);
+    png_set_filter(png, 0, PNG_FILTER_NONE);
+    png_set_IHDR(png, info, width, height, bits, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = 0; y < height; ++y) png_write_row(png, row);
+    png_write_end(png, nullptr);
+    ok = true;
+  }
+  png_destroy_write_struct(&png, &info);
+  std::free(row);
+  std::fclose(f);
+  ASSERT_TRUE(ok);
+}
+
+// A small valid EXR (colour and depth) whose data window is then patched to 16384x16384: a header
+// that promises 4 GiB of floats in a file of a few kilobytes.
+void write_lying_exr(const std::string& file) {
+  Image color(64, 64, 3), depth(64, 64, 1);
+  for (int c = 0; c < 3; ++c) std::fill(color.plane_data(c), color.plane_data(c) + color.stride() * 64, 0.5f);
+  std::fill(depth.plane_data(), depth.plane_data() + depth.stride() * 64, 4.0f);
+  const reproject::FloatPlane depth_plane = depth.plane(0);
+  ASSERT_TRUE(reproject::io::write_exr(path(file), color.color(), &depth_plane).ok());
+  std::string bytes = bytes_of(file);
+  const std::string key = std::string("dataWindow") + '\0' + "box2i" + '\0';
+  const std::size_t at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const std::int32_t window[4] = {0, 0, 16383, 16383};
+  std::memcpy(&bytes[at + key.size() + 4], window, sizeof window);  // after the attribute's size
+  std::ofstream(path(file), std::ios::binary) << bytes;
+}
+
+}  // namespace
+
+// Row 1: an output that is an input, under any spelling, is refused before any work, and the
+// input is left as it was.
+TEST(CliSafety, OutputNamingAnInputIsRefused) {
+  ensure_room();
+  fs::copy_file(path("room/centre.png"), path("in.png"), fs::copy_options::overwrite_existing);
+  fs::copy_file(path("room/centre_depth.pfm"), path("in.pfm"), fs::copy_options::overwrite_existing);
+  std::error_code ignored;
+  fs::remove(path("in-link.png"), ignored);
+  fs::remove(path("in-hard.pfm"), ignored);
+  fs::create_symlink("in.png", path("in-link.png"));
+  fs::create_hard_link(path("in.pfm"), path("in-hard.pfm"));
+  const std::string color = bytes_of("in.png"), depth = bytes_of("in.pfm");
+  const std::string frame = "--color in.png --depth in.pfm --encoding standard --near 1 --far 20 --convergence 3.5";
+  expect_error("warp " + frame + " --out in.png", 2, "--out: 'in.png' is the input --color 'in.png'");
+  expect_error("warp " + frame + " --out never.png --out-depth ./in.pfm", 2, "--out-depth: './in.pfm' is the input --depth 'in.pfm'");
+  expect_error("pair " + frame + " --side-by-side in-link.png", 2, "--side-by-side: 'in-link.png' is the input --color");
+  expect_error("warp " + frame + " --out never.png --out-depth in-hard.pfm", 2, "--out-depth: 'in-hard.pfm' is the input --depth 'in.pfm'");
+  expect_error("compare " + frame + " --repeats 1 --threads 1 --methods exact --json in.png", 2, "--json: 'in.png' is the input --color");
+  // budget's histogram is a PNG: a grey PNG depth, named through a hard link.
+  write_zero_png("grey.png", 16, 8, PNG_COLOR_TYPE_GRAY, 16);
+  fs::remove(path("grey-hard.png"), ignored);
+  fs::create_hard_link(path("grey.png"), path("grey-hard.png"));
+  const std::string grey = bytes_of("grey.png");
+  expect_error("budget --depth grey.png --encoding linear --convergence 3 --histogram grey-hard.png", 2,
+               "--histogram: 'grey-hard.png' is the input --depth 'grey.png'");
+  EXPECT_EQ(bytes_of("in.png"), color);
+  EXPECT_EQ(bytes_of("in.pfm"), depth);
+  EXPECT_EQ(bytes_of("grey.png"), grey);
+  EXPECT_FALSE(fs::exists(path("never.png")));
+}
+
+// Row 2: every output target is checked before the work (a directory in the way fails at once),
+// and nothing is replaced when one of them fails.
+TEST(CliSafety, OutputTargetsCheckedBeforeWork) {
+  ensure_room();
+  fs::create_directories(path("o/isdir.pfm"));
+  fs::create_directories(path("o/isdir.png"));
+  std::ofstream(path("o/a.png")) << "old";
+  const std::string warp = std::string("warp ") + kWarpFlags;
+  expect_error(warp + " --out o/a.png --out-depth o/isdir.pfm --status o/st.png", 4, "cannot write 'o/isdir.pfm': it is a directory");
+  expect_error(std::string("pair ") + kWarpFlags + " --out-left o/a.png --side-by-side o/isdir.png", 4,
+               "cannot write 'o/isdir.png': it is a directory");
+  expect_error(std::string("compare ") + kWarpFlags + " --repeats 1 --threads 1 --methods exact --json /dev/null", 4,
+               "cannot write '/dev/null': it is not a regular file");
+  EXPECT_EQ(bytes_of("o/a.png"), "old");
+  EXPECT_FALSE(fs::exists(path("o/st.png")));
+  for (const auto& entry : fs::directory_iterator(path("o"))) {
+    EXPECT_EQ(entry.path().filename().string().find(".reproject-"), std::string::npos) << entry.path();
+  }
+}
+
+// Row 2, the commit itself: when a rename fails (here a directory appears where an output goes
+// after the outputs were checked), every output renamed before it is put back.
+TEST(CliSafety, FailedCommitRestoresEveryOutput) {
+  namespace cli = reproject::cli;
+  const fs::path dir = scratch() / "commit";
+  fs::create_directories(dir);
+  std::ofstream(dir / "a.pfm") << "old a";
+  Image plane(4, 2, 1);
+  std::fill(plane.plane_data(), plane.plane_data() + plane.stride() * 2, 1.0f);
+  int code = 0;
+  try {
+    cli::OutputSet out;
+    out.expect("a", (dir / "a.pfm").string());
+    out.expect("b", (dir / "b.pfm").string());
+    out.expect("c", (dir / "c.pfm").string());
+    out.plane((dir / "a.pfm").string(), plane.plane(0));
+    out.plane((dir / "b.pfm").string(), plane.plane(0));
+    out.plane((dir / "c.pfm").string(), plane.plane(0));
+    fs::create_directories(dir / "c.pfm" / "occupied");
+    out.commit();
+  } catch (const cli::Failure& f) {
+    code = f.code;
+    EXPECT_NE(f.message.find("cannot rename a temporary file onto"), std::string::npos) << f.message;
+  }
+  EXPECT_EQ(code, cli::kExitOutput);
+  EXPECT_EQ(slurp(dir / "a.pfm"), "old a");
+  EXPECT_FALSE(fs::exists(dir / "b.pfm"));
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    EXPECT_EQ(entry.path().filename().string().find(".reproject-"), std::string::npos) << entry.path();
+  }
+}
+
+// Row 10: a replaced output keeps its mode.
+TEST(CliSafety, ReplacedOutputKeepsItsMode) {
+  ensure_room();
+  std::ofstream(path("private.png")) << "old";
+  ASSERT_EQ(::chmod(path("private.png").c_str(), 0600), 0);
+  const CliRun r = run(std::string("warp ") + kWarpFlags + " --out private.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  struct stat info = {};
+  ASSERT_EQ(::stat(path("private.png").c_str(), &info), 0);
+  EXPECT_EQ(info.st_mode & 07777, 0600u);
+  EXPECT_NE(bytes_of("private.png"), "old");
+}
+
+// Row 6: SIGINT, SIGTERM and SIGHUP at any moment of a run leave no temporary file.
+TEST(CliSafety, SignalsLeaveNoTemporaryFiles) {
+  const CliRun scene = run("scene --scene room --width 1920 --height 1080 --out-dir big");
+  ASSERT_EQ(scene.code, 0) << scene.err;
+  const fs::path dir = scratch() / "signals";
+  fs::create_directories(dir);
+  const std::string tool = REPROJECT_CLI, color = path("big/centre.png"), depth = path("big/centre_depth.pfm");
+  int killed = 0;
+  const int signals[] = {SIGINT, SIGTERM, SIGHUP};
+  for (int delay_ms = 100, i = 0; delay_ms <= 1000; delay_ms += 50, ++i) {
+    const int signal_number = signals[i % 3];
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      if (::chdir(dir.c_str()) != 0) _exit(125);
+      std::freopen("/dev/null", "w", stdout);
+      std::freopen("/dev/null", "w", stderr);
+      ::execl(tool.c_str(), tool.c_str(), "warp", "--color", color.c_str(), "--depth", depth.c_str(), "--encoding", "standard",
+              "--near", "1", "--far", "20", "--convergence", "3.5", "--out", "o.png", "--out-depth", "o.pfm", "--status",
+              "s.png", "--source-x", "x.exr", "--threads", "1", static_cast<char*>(nullptr));
+      _exit(126);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    ::kill(child, signal_number);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    if (WIFSIGNALED(status)) ++killed;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(name == "o.png" || name == "o.pfm" || name == "s.png" || name == "x.exr")
+          << name << " left after signal " << signal_number << " at " << delay_ms << " ms";
+    }
+  }
+  EXPECT_GT(killed, 0) << "no run was still going when its signal came: lengthen the runs";
+}
+
+// Row 3: a file cut short fails as truncated without allocating what its header promises.
+TEST(CliMemory, TruncatedFilesFailWithoutAllocating) {
+  SKIP_UNDER_ASAN();
+  ensure_room();
+  std::ofstream(path("cut.pfm"), std::ios::binary) << "PF\n16384 16384\n-1.0\n" << std::string(4096, '\0');
+  {  // a PNG header of 16384x16384 RGBA16 followed by 1 KB of its data
+    write_zero_png("whole.png", 16384, 64, PNG_COLOR_TYPE_RGB_ALPHA, 16);
+    std::string png = bytes_of("whole.png");
+    const std::uint8_t height[4] = {0, 0, 0x40, 0};  // IHDR height 16384, big-endian, at byte 20
+    std::memcpy(&png[20], height, 4);
+    const std::uint32_t crc = static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(&png[12]), 17));
+    const char crc_bytes[4] = {static_cast<char>(crc >> 24), static_cast<char>(crc >> 16), static_cast<char>(crc >> 8),
+                               static_cast<char>(crc)};
+    std::memcpy(&png[29], crc_bytes, 4);  // IHDR's CRC covers its type and data
+    std::ofstream(path("cut.png"), std::ios::binary) << png.substr(0, 33 + 1024);
+  }
+  write_lying_exr("cut.exr");
+  const std::string camera = " --encoding linear --convergence 3 --out cut-out.png";
+  for (const char* file : {"cut.pfm", "cut.png"}) {
+    const CliRun r = run(std::string("warp --color ") + file + " --depth room/centre_depth.pfm" + camera, kMemoryLimit);
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find(std::string("'") + file + "' is truncated"), std::string::npos) << r.err;
+  }
+  const CliRun r = run("warp --color cut.exr --depth cut.exr" + camera, kMemoryLimit);
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("'cut.exr' is truncated"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("cut-out.png")));
+}
+
+// Row 4: inputs of different sizes fail on their headers, before a pixel is decoded.
+TEST(CliMemory, SizeMismatchFailsBeforeDecoding) {
+  SKIP_UNDER_ASAN();
+  ensure_room();
+  write_zero_png("huge.png", 8192, 8192, PNG_COLOR_TYPE_RGB_ALPHA, 16);
+  const auto start = std::chrono::steady_clock::now();
+  expect_error("warp --color huge.png --depth room/centre_depth.pfm --encoding linear --convergence 3 --out x.png", 3,
+               "colour 'huge.png' is 8192x8192 but depth 'room/centre_depth.pfm' is 960x540");
+  expect_error(std::string("compare ") + kWarpFlags + " --truth huge.png", 3, "truth 'huge.png' is 8192x8192 but the source is 960x540");
+  // Under a limit far below the 1.5 GB that decoding it would take: still the size message.
+  const CliRun r = run("warp --color huge.png --depth room/centre_depth.pfm --encoding linear --convergence 3 --out x.png", kMemoryLimit);
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("colour 'huge.png' is 8192x8192 but depth"), std::string::npos) << r.err;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+}
+
+// Row 5: memory running out is exit 1, with the file named.
+TEST(CliMemory, OutOfMemoryNamesTheFile) {
+  SKIP_UNDER_ASAN();
+  write_zero_png("huge.png", 8192, 8192, PNG_COLOR_TYPE_RGB_ALPHA, 16);
+  write_zero_png("huge-depth.png", 8192, 8192, PNG_COLOR_TYPE_GRAY, 16);
+  const CliRun r = run("warp --color huge.png --depth huge-depth.png --encoding linear --convergence 3 --out x.png", kMemoryLimit);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("reproject: error: out of memory reading 'huge.png'"), std::string::npos) << r.err;
+}
+
+// Row 7: frames wider than libpng's default limit of 1,000,000 columns read and write as PNG.
+TEST(CliLimits, WideFramesBeyondLibpngDefaults) {
+  const int w = 1000001;
+  Image color(w, 1, 3), depth(w, 1, 1);
+  for (int x = 0; x < w; ++x) {
+    for (int c = 0; c < 3; ++c) color.plane_data(c)[x] = static_cast<float>((x * (c + 1)) % 256);
+    depth.plane_data()[x] = 5.0f;
+  }
+  ASSERT_TRUE(reproject::io::write_png(path("wide.png"), color.color()).ok());
+  write_pfm("wide-depth.pfm", depth);
+  const CliRun r = run("warp --color wide.png --depth wide-depth.pfm --encoding linear --convergence 3 --out wide-out.png --status wide-status.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(read_color("wide-out.png").width(), w);
+  EXPECT_EQ(read_plane("wide-status.png").width(), w);
+}
+
+// Row 8: messages that name the file and the reason.
+TEST(CliErrors, MessagesNameFileAndReason) {
+  ensure_room();
+  expect_error(std::string("compare ") + kWarpFlags + " --truth room/right.png --truth-mask room/right.png", 3,
+               "truth mask 'room/right.png' must be a grey PNG (1 channel), this one has 3");
+  std::ofstream(path("afile")) << "x";
+  expect_error("scene --scene edge --width 64 --height 36 --out-dir afile", 4, "'afile' exists and is not a directory");
+  expect_error("scene --scene edge --width 64 --height 36 --out-dir afile/sub", 4, "'afile' exists and is not a directory");
+  expect_error("compare --scene edge --width 64 --height 36 --repeats 1 --threads 1 --json /proc/c.json", 4, "cannot write '/proc/c.json': ");
+}
+
+// Row 9: numbers are plain decimals; an unknown forced instruction set is refused.
+TEST(CliErrors, StrictNumbersAndForcedArch) {
+  ensure_room();
+  const std::string frame = "warp --color room/centre.png --depth room/centre_depth.pfm --encoding standard --near 1 --far 20 --out x.png";
+  expect_error(frame + " --convergence 0x10", 2, "--convergence: '0x10' is not a decimal number");
+  expect_error(frame + " '--convergence= 3.5'", 2, "--convergence: ' 3.5' is not a decimal number");
+  expect_error(frame + " --convergence 3.5 --threads ' 2'", 2, "--threads: ' 2' is not an integer in 0..1024");
+  expect_error(frame + " --convergence inf", 2, "--convergence: 'inf' is not a decimal number");
+  expect_error("compare --scene edge --threads 0x1", 2, "--threads: '0x1' is not a thread count in 1..256");
+  const CliRun r = run(frame + " --convergence 3.5", "REPROJECT_FORCE_ARCH=frob ");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("REPROJECT_FORCE_ARCH: unknown instruction set 'frob' (scalar, sse, avx2, avx512)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("x.png")));
+  EXPECT_EQ(run("warp --color room/centre.png --depth room/centre_depth.pfm --encoding standard --near +1 --far 2e1 "
+                "--convergence 3.5e0 --out x.png").code, 0);
+}
+
+// Row 11: with every depth -inf, the off-the-chart line and the peak label do not overlap.
+TEST(CliBudget, LabelsNeverOverlap) {
+  Image depth(32, 16, 1);
+  std::fill(depth.plane_data(), depth.plane_data() + depth.stride() * 16, -INFINITY);
+  write_pfm("neg-inf.pfm", depth);
+  const CliRun r = run("budget --depth neg-inf.pfm --encoding linear --convergence 3 --histogram neg-inf-hist.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Image picture = read_color("neg-inf-hist.png");
+  // Both lines are drawn on dark boxes (value 16) across column 80: they must be two runs of rows
+  // with a row of background between them, not one run.
+  int runs = 0;
+  bool inside = false;
+  for (int y = 48; y < 72; ++y) {  // below the legend, above the plot
+    const bool box = at(picture, 0, 80, y) == 16.0f || at(picture, 0, 80, y) == 255.0f;
+    if (box && !inside) ++runs;
+    inside = box;
+  }
+  EXPECT_EQ(runs, 2) << "the off-the-chart line and the peak label share rows";
 }

@@ -134,7 +134,8 @@ Image histogram_picture(const ParallaxBudget& b, const std::vector<std::int64_t>
     canvas.text(x - static_cast<int>(v.size()) * 6 / 2, kPlotBottom + 10, v);
   }
   canvas.text(kPlotLeft + plot_w / 2 - 90, kPlotBottom + 30, "parallax, display pixels (left to right)");
-  canvas.text(kPlotLeft, kPlotTop - 16, "peak " + std::to_string(peak) + " pixels (" +
+  // One label row (11 px) above the plot, below the legend's off-the-chart line with a row between.
+  canvas.text(kPlotLeft, kPlotTop - 11, "peak " + std::to_string(peak) + " pixels (" +
                                             fmt("%.2f", 100.0 * static_cast<double>(peak) / static_cast<double>(b.pixels)) +
                                             " % of the pixels)");
 
@@ -159,7 +160,7 @@ Image histogram_picture(const ParallaxBudget& b, const std::vector<std::int64_t>
     canvas.text(x + 14, 36, k.text);
     x += 14 + static_cast<int>(k.text.size()) * 6 + 4 + 16;
   }
-  if (!off_chart.empty()) canvas.text(8, 52, off_chart);
+  if (!off_chart.empty()) canvas.text(8, kPlotTop - 23, off_chart);
   return std::move(canvas.image());
 }
 
@@ -235,6 +236,10 @@ int run_budget(int argc, char** argv) {
     flags.bad_value("separation", "0 is no stereo; the eye separation then needs --interocular and --screen-width");
   }
 
+  OutputSet out;
+  out.inputs(flags, {"depth"});
+  out.outputs(flags, {"histogram"});
+
   // ---- The depth -------------------------------------------------------------------------------------
   if (file_mode) {
     DepthFile file = load_depth(flags, decoder);
@@ -302,7 +307,6 @@ int run_budget(int argc, char** argv) {
   std::vector<std::int64_t> counts(static_cast<std::size_t>(bins), 0);
   check_status(parallax_budget(depth.plane(0), decoder, camera, options, &b, counts.data()), "parallax_budget");
 
-  OutputSet out;
   if (flags.has("histogram")) {
     const Image picture = histogram_picture(b, counts, marks, keys, half_convergence_p, far_p,
                                             "parallax histogram, " + std::to_string(b.display_width) + " px wide, " +

@@ -29,6 +29,9 @@ struct Failure {
   std::string message;
 };
 [[noreturn]] void fail(int code, const std::string& message);
+// Whether `text` is a plain decimal number: an optional sign, digits, and unless `integer_only` a
+// fraction and an exponent. No blanks, no hexadecimal, no "inf" or "nan".
+bool is_decimal(const std::string& text, bool integer_only);
 
 // ---- Flags ----------------------------------------------------------------------------------
 
@@ -85,19 +88,40 @@ struct ColorImage {
   io::FileFormat format = io::FileFormat::png;
 };
 
-// Readers: any failure is a Failure with kExitInput and imageio's message.
+// Inputs. Every command reads the headers of all its inputs first (color_info, depth_info) and
+// checks them against each other, so that a wrong size or layout fails before a pixel is decoded
+// or a large buffer allocated; then it decodes (read_color, read_depth_file). Any failure is a
+// Failure with imageio's message, which names the file: kExitRuntime when memory ran out, else
+// kExitInput.
+io::ImageInfo color_info(const std::string& path);
+io::ImageInfo depth_info(const std::string& path);
 ColorImage read_color(const std::string& path);
 // A single-channel depth or disparity file as stored (PNG integers, PFM/EXR floats).
 io::LoadedImage read_depth_file(const std::string& path);
+// "WxH" for messages.
+std::string size_text(int width, int height);
+
 // Checks, before any work, that `path`'s extension names a format the tool writes (usage error).
 void check_output_path(const char* flag, const std::string& path);
 // Checks, before any work, that the given output flags name different files (usage error).
 void check_distinct_outputs(const Flags& flags, const std::vector<const char*>& names);
+// Whether two paths name one existing file (same device and inode: "./x", a symlink, a hard link).
+bool same_file(const std::string& a, const std::string& b);
+// Whether two paths name one destination: same_file, or the same path once resolved.
+bool same_destination(const std::string& a, const std::string& b);
 
-// Every file one command writes, written all or nothing: each file goes to a temporary name next
-// to its destination; commit() renames them all into place once every one is written. If the
-// command fails first, the destructor removes the temporary files, and the directories it created
-// when they are left empty. So a failed command leaves neither partial nor partly-updated output.
+// Every file one command writes, written all or nothing:
+//  * before any work, input() names each input file and expect() each output file: an output that
+//    is an input (under any spelling) is a usage error; a directory in its place, or a directory
+//    it cannot be created in, is kExitOutput. expect() reserves the output's temporary file
+//    (<name>.reproject-tmp<pid>-<n>.<ext>, next to it); make_directory() creates directories now;
+//  * the writers (color, plane, ...) write into those temporary files;
+//  * commit() renames them all into place once every one is written; should a rename fail, the
+//    ones before it are undone, so every destination holds its previous file again. A replaced
+//    file keeps its mode.
+// If the command fails first, the destructor removes the temporary files, and the directories it
+// created when they are left empty; remove_temporaries_on_signals() does the same when SIGINT,
+// SIGTERM, SIGHUP or SIGQUIT ends the process.
 class OutputSet {
  public:
   OutputSet() = default;
@@ -105,6 +129,11 @@ class OutputSet {
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
 
+  void input(const std::string& flag, const std::string& path);
+  void expect(const std::string& flag, const std::string& path);
+  // input() / expect() for each of these flags that is given.
+  void inputs(const Flags& flags, const std::vector<const char*>& names);
+  void outputs(const Flags& flags, const std::vector<const char*>& names);
   // Creates `dir` (and its parents) if missing; kExitOutput on failure.
   void make_directory(const std::string& dir);
   // Colour normalised 0..1: PNG 8 or 16 bits (scaled by 2^bits - 1), PFM/EXR floats. PFM keeps
@@ -121,15 +150,20 @@ class OutputSet {
   void commit();
 
  private:
-  std::string stage(const std::string& path);
-  void check(const io::IoStatus& status, const std::string& path);
+  static std::string sibling(const std::string& path, const char* what, std::size_t n);
+  const std::string& stage(const std::string& path);
+  void check(const io::IoStatus& status, const std::string& path, const std::string& temporary);
   struct Staged {
     std::string temporary, destination;
+    bool written = false;
   };
+  std::vector<std::pair<std::string, std::string>> inputs_;  // flag, path
   std::vector<Staged> staged_;
   std::vector<std::string> created_dirs_;
   bool committed_ = false;
 };
+// Installs the handlers that remove every temporary file when a signal ends the process (main).
+void remove_temporaries_on_signals();
 
 // ---- Source frames, depth decoding and the parallax model --------------------------------------
 
@@ -145,7 +179,9 @@ struct Frame {
   double depth_scale = 1;  // K: depth = file value x K
   long unknown_filled = 0;
 };
-// Reads --color and --depth, checks their sizes, applies --depth-scale and --unknown-depth.
+// The headers of --color and --depth, checked against each other; the colour's is returned.
+io::ImageInfo frame_info(const Flags& flags);
+// Reads --color and --depth (after frame_info), applies --depth-scale and --unknown-depth.
 Frame load_frame(const Flags& flags, const DepthDecoder& decoder);
 // The depth half of load_frame: --depth with --depth-scale and --unknown-depth applied.
 struct DepthFile {
@@ -171,6 +207,10 @@ int dilate_radius_from_flags(const Flags& flags);
 // The halo pre-filter (dilate_nearer_depth): each depth becomes the nearest one within `radius`
 // columns of its row; nothing when radius is 0. Runs on stored values after --depth-scale.
 void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius);
+// REPROJECT_FORCE_ARCH, when set, must name an instruction set (the library would silently
+// ignore a misspelt one): a usage error naming the valid values. An unsupported one stays
+// allowed: the library then falls back to the best supported set, as documented.
+void check_forced_arch();
 // --arch, checked against this CPU; selected_arch() when absent.
 Arch arch_from_flags(const Flags& flags);
 // kExitRuntime with the library's message.

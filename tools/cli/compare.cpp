@@ -328,7 +328,7 @@ int run_compare(int argc, char** argv) {
   for (const std::string& t : flags.list("threads", "1,2")) {
     char* end = nullptr;
     const long v = std::strtol(t.c_str(), &end, 10);
-    if (end == t.c_str() || *end != '\0' || v < 1 || v > 256) flags.bad_value("threads", "'" + t + "' is not a thread count in 1..256");
+    if (!is_decimal(t, true) || end == t.c_str() || *end != '\0' || v < 1 || v > 256) flags.bad_value("threads", "'" + t + "' is not a thread count in 1..256");
     if (std::find(thread_counts.begin(), thread_counts.end(), static_cast<int>(v)) != thread_counts.end()) {
       flags.bad_value("threads", "'" + t + "' is listed twice");
     }
@@ -340,12 +340,28 @@ int run_compare(int argc, char** argv) {
   const int dilate = dilate_radius_from_flags(flags);
   const std::string dilate_note = dilate > 0 ? ", dilated " + std::to_string(dilate) + " px (nearer; halo pre-filter)" : "";
   if (flags.has("json") && fs::is_directory(flags.text("json"))) flags.bad_value("json", "'" + flags.text("json") + "' is a directory");
-  // Found out before the long run, not after it.
-  if (flags.has("images") && fs::exists(flags.text("images")) && !fs::is_directory(flags.text("images"))) {
-    fail(kExitOutput, "'" + flags.text("images") + "' exists and is not a directory");
-  }
   if (flags.has("truth-mask") && io::format_from_path(flags.text("truth-mask")) != io::FileFormat::png) {
     flags.bad_value("truth-mask", "'" + flags.text("truth-mask") + "' must be a .png file");
+  }
+  if (frame_mode) {
+    (void)decoder_from_flags(flags);
+    (void)model_from_flags(flags, 1, nullptr);
+  }
+
+  // ---- Outputs, checked (and the images directory created) before the long run ------------------
+  OutputSet out;
+  out.inputs(flags, {"color", "depth", "truth", "truth-mask"});
+  out.outputs(flags, {"json"});
+  if (flags.has("images")) {
+    const fs::path dir(flags.text("images"));
+    out.make_directory(dir.string());
+    const bool will_have_truth = !frame_mode || flags.has("truth");
+    std::vector<std::string> names = {"source.png", "methods.png"};
+    if (will_have_truth) names.insert(names.end(), {"truth.png", "truth_anaglyph.png"});
+    for (Method m : methods) {
+      for (const char* suffix : {".png", "_error.png", "_status.png", "_anaglyph.png"}) names.push_back(to_string(m) + std::string(suffix));
+    }
+    for (const std::string& name : names) out.expect("images", (dir / name).string());
   }
 
   // ---- Source, truth and the pixels that count --------------------------------------------------
@@ -414,29 +430,42 @@ int run_compare(int argc, char** argv) {
   } else {
     decoder = decoder_from_flags(flags);
     (void)model_from_flags(flags, 1, &direction);
+    // Every header before any pixel: the truth and its mask must match the source.
+    const io::ImageInfo source_info = frame_info(flags);
+    const int w = source_info.width, h = source_info.height;
+    auto check_size = [&](const char* what, const std::string& file, const io::ImageInfo& info) {
+      if (info.width != w || info.height != h) {
+        fail(kExitInput, std::string(what) + " '" + file + "' is " + size_text(info.width, info.height) + " but the source is " +
+                             size_text(w, h));
+      }
+    };
+    if (flags.has("truth")) {
+      const std::string file = flags.text("truth");
+      const io::ImageInfo info = color_info(file);
+      check_size("truth", file, info);
+      if ((info.channels >= 3) != (source_info.channels >= 3)) {
+        fail(kExitInput, "truth '" + file + "' has " + std::to_string(info.channels) + " channels but the source colour has " +
+                             std::to_string(source_info.channels) + " (grey vs colour)");
+      }
+    }
+    if (flags.has("truth-mask")) {
+      const std::string file = flags.text("truth-mask");
+      const io::ImageInfo info = color_info(file);
+      if (info.channels != 1) {
+        fail(kExitInput, "truth mask '" + file + "' must be a grey PNG (1 channel), this one has " + std::to_string(info.channels));
+      }
+      check_size("truth mask", file, info);
+    }
+
     Frame frame = load_frame(flags, decoder);
     model = model_from_flags(flags, frame.depth.width(), &direction);
     source_color = std::move(frame.color.image);
     source_depth = std::move(frame.depth);
     dilate_depth(&source_depth, decoder, dilate);
-    const int w = source_depth.width(), h = source_depth.height();
     if (flags.has("truth")) {
-      ColorImage t = read_color(flags.text("truth"));
-      if (t.image.width() != w || t.image.height() != h) {
-        fail(kExitInput, "truth '" + flags.text("truth") + "' is " + std::to_string(t.image.width()) + "x" +
-                             std::to_string(t.image.height()) + " but the source is " + std::to_string(w) + "x" + std::to_string(h));
-      }
-      if ((t.image.channels() >= 3) != (source_color.channels() >= 3)) {
-        fail(kExitInput, "truth '" + flags.text("truth") + "' has " + std::to_string(t.image.channels()) +
-                             " channels but the source colour has " + std::to_string(source_color.channels()) + " (grey vs colour)");
-      }
-      truth = std::move(t.image);
+      truth = read_color(flags.text("truth")).image;
       if (flags.has("truth-mask")) {
-        io::LoadedImage m = read_depth_file(flags.text("truth-mask"));
-        if (m.image.width() != w || m.image.height() != h) {
-          fail(kExitInput, "truth mask '" + flags.text("truth-mask") + "' is " + std::to_string(m.image.width()) + "x" +
-                               std::to_string(m.image.height()) + " but the source is " + std::to_string(w) + "x" + std::to_string(h));
-        }
+        const io::LoadedImage m = read_depth_file(flags.text("truth-mask"));
         measured.assign(static_cast<std::size_t>(w) * h, 0);
         for (int y = 0; y < h; ++y) {
           for (int x = 0; x < w; ++x) measured[static_cast<std::size_t>(y) * w + x] = m.image.plane_data()[y * m.image.stride() + x] != 0.0f;
@@ -608,11 +637,9 @@ int run_compare(int argc, char** argv) {
   std::fflush(stdout);
 
   // ---- Files -----------------------------------------------------------------------------------------
-  OutputSet out;
   if (flags.has("json")) out.text(flags.text("json"), json);
   if (flags.has("images")) {
     const fs::path dir(flags.text("images"));
-    out.make_directory(dir.string());
     const bool target_is_right = direction == EyeDirection::left_to_right || direction == EyeDirection::centre_to_right;
     // Error maps against the truth; without one, against exact's output (every pixel counts).
     const Image& reference = has_truth ? truth : outputs.front().color;

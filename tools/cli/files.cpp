@@ -1,10 +1,15 @@
 // Reading inputs and writing outputs all or nothing (see OutputSet in cli.hpp). The formats are
 // imageio's; this file only normalises colour and stages the writes.
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <system_error>
 
 #include "cli.hpp"
@@ -18,9 +23,33 @@ const char* format_list() { return ".png, .pfm or .exr"; }
 
 }  // namespace
 
+namespace {
+
+// An input that cannot be read: out of memory is the machine's limit (exit 1), anything else the
+// file's fault (exit 3); imageio's message names the file either way.
+[[noreturn]] void input_failure(const io::IoStatus& status) {
+  fail(status.error == io::IoError::out_of_memory ? kExitRuntime : kExitInput, status.message);
+}
+
+}  // namespace
+
+io::ImageInfo color_info(const std::string& path) {
+  io::ImageInfo info;
+  if (io::IoStatus s = io::read_image_info(path, &info); !s) input_failure(s);
+  return info;
+}
+
+io::ImageInfo depth_info(const std::string& path) {
+  io::ImageInfo info;
+  if (io::IoStatus s = io::read_depth_info(path, &info); !s) input_failure(s);
+  return info;
+}
+
+std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
+
 ColorImage read_color(const std::string& path) {
   io::LoadedImage loaded;
-  if (io::IoStatus s = io::read_image(path, &loaded); !s) fail(kExitInput, s.message);
+  if (io::IoStatus s = io::read_image(path, &loaded); !s) input_failure(s);
   ColorImage out;
   out.format = loaded.format;
   out.bit_depth = loaded.bit_depth;
@@ -40,7 +69,7 @@ ColorImage read_color(const std::string& path) {
 
 io::LoadedImage read_depth_file(const std::string& path) {
   io::LoadedImage loaded;
-  if (io::IoStatus s = io::read_depth(path, &loaded); !s) fail(kExitInput, s.message);
+  if (io::IoStatus s = io::read_depth(path, &loaded); !s) input_failure(s);
   return loaded;
 }
 
@@ -53,13 +82,57 @@ void check_output_path(const char* flag, const std::string& path) {
 void check_distinct_outputs(const Flags& flags, const std::vector<const char*>& names) {
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (!flags.has(names[i])) continue;
-    const fs::path a = fs::path(flags.text(names[i])).lexically_normal();
     for (std::size_t j = i + 1; j < names.size(); ++j) {
-      if (flags.has(names[j]) && a == fs::path(flags.text(names[j])).lexically_normal()) {
+      if (flags.has(names[j]) && same_destination(flags.text(names[i]), flags.text(names[j]))) {
         fail(kExitUsage, std::string("--") + names[i] + " and --" + names[j] + " name the same file '" + flags.text(names[i]) + "'");
       }
     }
   }
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  struct stat sa = {}, sb = {};
+  return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+bool same_destination(const std::string& a, const std::string& b) {
+  if (same_file(a, b)) return true;
+  std::error_code ea, eb;
+  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+  if (ea || eb) return fs::path(a).lexically_normal() == fs::path(b).lexically_normal();
+  return ca == cb;
+}
+
+// ---- Signals -----------------------------------------------------------------------------------
+
+namespace {
+
+// While commit() renames, a signal must not remove the files it is moving: the handler then only
+// notes the signal, and commit() acts on it once the set is complete (or rolled back).
+std::atomic<bool> committing{false};
+std::atomic<int> deferred_signal{0};
+
+void die_of(int signal_number) {
+  io::remove_temporary_files();
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);  // blocked while the handler runs: delivered when it returns
+}
+
+extern "C" void on_terminating_signal(int signal_number) {
+  if (committing.load()) {
+    deferred_signal.store(signal_number);
+    return;
+  }
+  die_of(signal_number);
+}
+
+}  // namespace
+
+void remove_temporaries_on_signals() {
+  struct sigaction action = {};
+  action.sa_handler = on_terminating_signal;
+  sigemptyset(&action.sa_mask);
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaction(signal_number, &action, nullptr);
 }
 
 // ---- OutputSet --------------------------------------------------------------------------------
@@ -69,63 +142,115 @@ OutputSet::~OutputSet() {
   for (const Staged& s : staged_) {
     std::error_code ignored;
     fs::remove(s.temporary, ignored);
+    io::untrack_temporary(s.temporary);
   }
   // Innermost first: remove() only removes empty directories, so a directory that held
   // anything before (or that someone else wrote into meanwhile) stays.
   for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) {
     std::error_code ignored;
     fs::remove(*it, ignored);
+    io::untrack_temporary(*it);
+  }
+}
+
+void OutputSet::input(const std::string& flag, const std::string& path) { inputs_.push_back({flag, path}); }
+
+void OutputSet::inputs(const Flags& flags, const std::vector<const char*>& names) {
+  for (const char* name : names) {
+    if (flags.has(name)) input(name, flags.text(name));
+  }
+}
+
+void OutputSet::outputs(const Flags& flags, const std::vector<const char*>& names) {
+  for (const char* name : names) {
+    if (flags.has(name)) expect(name, flags.text(name));
   }
 }
 
 void OutputSet::make_directory(const std::string& dir) {
   std::error_code error;
   if (fs::is_directory(dir, error)) return;
-  // Remember every level this call creates, outermost first.
+  // Remember every level this call creates, outermost first; a file where a level should be is
+  // reported as such (create_directories would only say "Not a directory" or "File exists").
   std::vector<std::string> missing;
-  for (fs::path p = fs::path(dir); !p.empty() && !fs::exists(p, error); p = p.parent_path()) {
+  for (fs::path p = fs::path(dir); !p.empty(); p = p.parent_path()) {
+    const fs::file_status status = fs::status(p, error);
+    if (fs::exists(status)) {
+      if (!fs::is_directory(status)) fail(kExitOutput, "'" + p.string() + "' exists and is not a directory");
+      break;
+    }
     missing.insert(missing.begin(), p.string());
     if (p == p.parent_path()) break;
   }
-  if (!fs::create_directories(dir, error) && error) {
-    fail(kExitOutput, "cannot create the directory '" + dir + "': " + error.message());
+  for (const std::string& level : missing) {
+    if (!fs::create_directory(level, error) && error) {
+      fail(kExitOutput, "cannot create the directory '" + dir + "': " + error.message());
+    }
+    created_dirs_.push_back(level);
+    io::track_temporary(level);  // removed, when still empty, if a signal ends the command
   }
-  if (!fs::is_directory(dir, error)) fail(kExitOutput, "'" + dir + "' exists and is not a directory");
-  created_dirs_.insert(created_dirs_.end(), missing.begin(), missing.end());
 }
 
-// "dir/name.png" -> "dir/name.reproject-tmp<pid>-<n>.png": same directory (so the final rename
-// does not cross file systems) and same extension (imageio picks the format by it).
-std::string OutputSet::stage(const std::string& path) {
-  for (const Staged& s : staged_) {
-    if (fs::path(s.destination).lexically_normal() == fs::path(path).lexically_normal()) {
-      fail(kExitUsage, "'" + path + "' is named as more than one output");
+// "dir/name.png" -> "dir/name.reproject-<what><pid>-<n>.png": same directory (so the final
+// rename does not cross file systems) and same extension (imageio picks the format by it).
+std::string OutputSet::sibling(const std::string& path, const char* what, std::size_t n) {
+  const fs::path p(path);
+  return (p.parent_path() / (p.stem().string() + ".reproject-" + what + std::to_string(static_cast<long>(::getpid())) +
+                             "-" + std::to_string(n) + p.extension().string()))
+      .string();
+}
+
+void OutputSet::expect(const std::string& flag, const std::string& path) {
+  for (const auto& in : inputs_) {
+    if (same_file(in.second, path)) {
+      fail(kExitUsage, "--" + flag + ": '" + path + "' is the input --" + in.first + " '" + in.second +
+                           "' (an output must not replace an input)");
     }
   }
-  const fs::path p(path);
-  const std::string temporary =
-      (p.parent_path() / (p.stem().string() + ".reproject-tmp" + std::to_string(static_cast<long>(::getpid())) + "-" +
-                          std::to_string(staged_.size()) + p.extension().string()))
-          .string();
-  staged_.push_back({temporary, path});
-  return temporary;
+  for (const Staged& s : staged_) {
+    if (same_destination(s.destination, path)) fail(kExitUsage, "'" + path + "' is named as more than one output");
+  }
+  // Only regular files are replaced: a rename would put a file in place of a device or a pipe.
+  struct stat target = {};
+  if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode)) {
+    fail(kExitOutput, "cannot write '" + path + "': it is " + (S_ISDIR(target.st_mode) ? "a directory" : "not a regular file"));
+  }
+  // Reserve the temporary file now: that proves the directory exists and is writable before any
+  // work is done, and the name stays ours until commit() or the destructor.
+  const std::string temporary = sibling(path, "tmp", staged_.size());
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    fail(kExitOutput, "cannot write '" + path + "': " + std::strerror(errno));
+  }
+  ::close(fd);
+  io::track_temporary(temporary);
+  staged_.push_back({temporary, path, false});
 }
 
-void OutputSet::check(const io::IoStatus& status, const std::string& path) {
+const std::string& OutputSet::stage(const std::string& path) {
+  for (Staged& s : staged_) {
+    if (s.destination == path && !s.written) {
+      s.written = true;
+      return s.temporary;
+    }
+  }
+  fail(kExitRuntime, "internal error: output '" + path + "' was not checked before the work");
+}
+
+void OutputSet::check(const io::IoStatus& status, const std::string& path, const std::string& temporary) {
   if (status) return;
   // imageio names the file it wrote, which is our temporary one: name the destination instead.
   std::string message = status.message;
-  const std::string& temporary = staged_.back().temporary;
   for (std::size_t at = message.find(temporary); at != std::string::npos; at = message.find(temporary, at)) {
     message.replace(at, temporary.size(), path);
     at += path.size();
   }
-  fail(kExitOutput, message);
+  fail(status.error == io::IoError::out_of_memory ? kExitRuntime : kExitOutput, message);
 }
 
 void OutputSet::color(const std::string& path, const ColorView& color, int png_bits) {
   const io::FileFormat format = io::format_from_path(path);
-  const std::string temporary = stage(path);
+  const std::string& temporary = stage(path);
   io::WriteOptions options;
   if (format == io::FileFormat::png) {
     // 0..1 back to the file's integers.
@@ -140,28 +265,28 @@ void OutputSet::color(const std::string& path, const ColorView& color, int png_b
       }
     }
     options.png_bit_depth = png_bits;
-    check(io::write_image(temporary, scaled.color(), options), path);
+    check(io::write_image(temporary, scaled.color(), options), path, temporary);
     return;
   }
   ColorView view = color;
   if (format == io::FileFormat::pfm && (view.channels == 2 || view.channels == 4)) {
     view.channels -= 1;  // PFM has no alpha: write grey or RGB
   }
-  check(io::write_image(temporary, view, options), path);
+  check(io::write_image(temporary, view, options), path, temporary);
 }
 
 void OutputSet::plane(const std::string& path, const FloatPlane& plane, int png_bits) {
-  const std::string temporary = stage(path);
+  const std::string& temporary = stage(path);
   io::WriteOptions options;
   options.png_bit_depth = png_bits;
-  check(io::write_depth(temporary, plane, options), path);
+  check(io::write_depth(temporary, plane, options), path, temporary);
 }
 
 void OutputSet::picture(const std::string& path, const Image& picture) {
-  const std::string temporary = stage(path);
+  const std::string& temporary = stage(path);
   io::WriteOptions options;
   options.png_bit_depth = 8;
-  check(io::write_image(temporary, picture.color(), options), path);
+  check(io::write_image(temporary, picture.color(), options), path, temporary);
 }
 
 void OutputSet::bytes(const std::string& path, const std::uint8_t* data, int width, int height) {
@@ -171,27 +296,87 @@ void OutputSet::bytes(const std::string& path, const std::uint8_t* data, int wid
     float* row = grey.plane_data() + y * grey.stride();
     for (int x = 0; x < width; ++x) row[x] = data[static_cast<std::size_t>(y) * width + x];
   }
-  const std::string temporary = stage(path);
+  const std::string& temporary = stage(path);
   io::WriteOptions options;
   options.png_bit_depth = 8;
-  check(io::write_image(temporary, grey.color(), options), path);
+  check(io::write_image(temporary, grey.color(), options), path, temporary);
 }
 
 void OutputSet::text(const std::string& path, const std::string& content) {
-  const std::string temporary = stage(path);
-  std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-  file << content;
-  file.close();
-  if (!file) fail(kExitOutput, "cannot write '" + path + "'");
+  const std::string& temporary = stage(path);
+  errno = 0;
+  std::FILE* file = std::fopen(temporary.c_str(), "wb");
+  bool ok = file != nullptr && std::fwrite(content.data(), 1, content.size(), file) == content.size();
+  int code = errno;
+  if (file != nullptr && std::fclose(file) != 0 && ok) {
+    ok = false;
+    code = errno;
+  }
+  if (!ok) fail(kExitOutput, "cannot write '" + path + "': " + (code != 0 ? std::strerror(code) : "unknown error"));
 }
 
 void OutputSet::commit() {
-  for (const Staged& s : staged_) {
-    std::error_code error;
-    fs::rename(s.temporary, s.destination, error);
-    if (error) fail(kExitOutput, "cannot rename a temporary file onto '" + s.destination + "': " + error.message());
+  // Each destination that exists keeps a hard link to its old content (a backup) until every
+  // rename has succeeded, so that a failed rename can put every earlier one back. A new file
+  // takes the mode of the one it replaces.
+  struct Step {
+    std::string backup;  // empty: no old file, or it could not be linked (no undo for that one)
+    bool existed = false;
+    bool renamed = false;
+  };
+  std::vector<Step> steps(staged_.size());
+  std::string error_text;
+  committing.store(true);
+  std::size_t done = 0;
+  for (; done < staged_.size(); ++done) {
+    const Staged& s = staged_[done];
+    Step& step = steps[done];
+    if (!s.written) {  // reserved but never written (a command's plan changed): not an output
+      ::unlink(s.temporary.c_str());
+      io::untrack_temporary(s.temporary);
+      continue;
+    }
+    struct stat old = {};
+    if (::stat(s.destination.c_str(), &old) == 0 && S_ISREG(old.st_mode)) {
+      step.existed = true;
+      ::chmod(s.temporary.c_str(), old.st_mode & 07777);
+      const std::string backup = sibling(s.destination, "old", done);
+      if (::link(s.destination.c_str(), backup.c_str()) == 0) {
+        step.backup = backup;
+        io::track_temporary(backup);
+      }
+    }
+    if (::rename(s.temporary.c_str(), s.destination.c_str()) != 0) {
+      error_text = "cannot rename a temporary file onto '" + s.destination + "': " + std::strerror(errno);
+      break;
+    }
+    step.renamed = true;
+    io::untrack_temporary(s.temporary);
   }
-  committed_ = true;
+  if (!error_text.empty()) {
+    for (std::size_t i = 0; i < done; ++i) {  // undo; the order does not matter: distinct files
+      if (!steps[i].renamed) continue;
+      if (!steps[i].backup.empty()) {
+        ::rename(steps[i].backup.c_str(), staged_[i].destination.c_str());
+      } else if (!steps[i].existed) {
+        ::unlink(staged_[i].destination.c_str());
+      }
+    }
+    for (std::size_t i = done; i < staged_.size(); ++i) ::unlink(staged_[i].temporary.c_str());
+    if (done < staged_.size() && !steps[done].backup.empty()) ::unlink(steps[done].backup.c_str());
+  } else {
+    committed_ = true;
+    for (const Step& step : steps) {
+      if (!step.backup.empty()) ::unlink(step.backup.c_str());
+    }
+    for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) io::untrack_temporary(*it);
+  }
+  for (const Step& step : steps) {
+    if (!step.backup.empty()) io::untrack_temporary(step.backup);
+  }
+  committing.store(false);
+  if (const int signal_number = deferred_signal.exchange(0)) die_of(signal_number);
+  if (!error_text.empty()) fail(kExitOutput, error_text);
 }
 
 }  // namespace reproject::cli

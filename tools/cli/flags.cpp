@@ -15,6 +15,30 @@ namespace reproject::cli {
 
 void fail(int code, const std::string& message) { throw Failure{code, message}; }
 
+bool is_decimal(const std::string& text, bool integer_only) {
+  // strtod and strtol alone also take leading blanks, hexadecimal ("0x10"), "inf" and "nan".
+  std::size_t i = 0;
+  const std::size_t n = text.size();
+  auto digits = [&] {
+    const std::size_t start = i;
+    while (i < n && text[i] >= '0' && text[i] <= '9') ++i;
+    return i - start;
+  };
+  if (i < n && (text[i] == '+' || text[i] == '-')) ++i;
+  std::size_t mantissa = digits();
+  if (!integer_only && i < n && text[i] == '.') {
+    ++i;
+    mantissa += digits();
+  }
+  if (mantissa == 0) return false;
+  if (!integer_only && i < n && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    if (i < n && (text[i] == '+' || text[i] == '-')) ++i;
+    if (digits() == 0) return false;
+  }
+  return i == n;
+}
+
 const Flags::Spec* Flags::find(const std::string& name) const {
   for (const Spec& s : specs_) {
     if (name == s.name) return &s;
@@ -108,7 +132,7 @@ int Flags::integer(const char* name, int fallback, int min, int max) const {
   char* end = nullptr;
   errno = 0;
   const long value = std::strtol(v.c_str(), &end, 10);
-  if (end == v.c_str() || *end != '\0' || errno == ERANGE || value < min || value > max) {
+  if (!is_decimal(v, true) || end == v.c_str() || *end != '\0' || errno == ERANGE || value < min || value > max) {
     bad_value(name, "'" + v + "' is not an integer in " + std::to_string(min) + ".." + std::to_string(max));
   }
   return static_cast<int>(value);
@@ -124,7 +148,7 @@ double Flags::number(const char* name, double fallback, double min, double max, 
   char* end = nullptr;
   errno = 0;
   const double value = std::strtod(v.c_str(), &end);
-  if (end == v.c_str() || *end != '\0' || !std::isfinite(value)) bad_value(name, "'" + v + "' is not a finite number");
+  if (!is_decimal(v, false) || end == v.c_str() || *end != '\0' || !std::isfinite(value)) bad_value(name, "'" + v + "' is not a decimal number");
   if (value < min || value > max || (min_open && value == min)) {
     // %g: "0", "1e+09", "0.5" rather than std::to_string's six decimals.
     auto text_of = [](double x) {

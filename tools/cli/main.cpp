@@ -37,7 +37,9 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   const std::string command = argv[1];
+  remove_temporaries_on_signals();
   try {
+    check_forced_arch();
     if (command == "warp") return run_warp(argc, argv);
     if (command == "pair") return run_pair(argc, argv);
     if (command == "compare") return run_compare(argc, argv);

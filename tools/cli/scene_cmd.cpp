@@ -116,6 +116,11 @@ int run_scene(int argc, char** argv) {
   };
   const EyeSpec eyes[] = {{"centre", rs::kCentreEye}, {"left", rs::kLeftEye}, {"right", rs::kRightEye}};
   for (const EyeSpec& eye : eyes) {
+    out.expect("out-dir", (dir / (std::string(eye.name) + "." + color_ext)).string());
+    out.expect("out-dir", (dir / (std::string(eye.name) + "_depth." + depth_ext)).string());
+    if (eye.sigma != rs::kCentreEye) out.expect("out-dir", (dir / (std::string(eye.name) + "_visible.png")).string());
+  }
+  for (const EyeSpec& eye : eyes) {
     const rs::Camera camera = centre.with_eye(eye.sigma);
     rs::View view;
     check_status(scene.render(camera, &view, threads), std::string("render ") + eye.name);

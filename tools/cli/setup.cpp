@@ -2,6 +2,7 @@
 // the options. Every check that can be made before reading a pixel is made here, so that a bad
 // flag costs no work and names itself.
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "cli.hpp"
@@ -188,6 +189,14 @@ void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius) {
   *depth = std::move(dilated);
 }
 
+void check_forced_arch() {
+  const char* forced = std::getenv("REPROJECT_FORCE_ARCH");
+  Arch arch = Arch::scalar;
+  if (forced != nullptr && *forced != '\0' && !parse_arch(forced, &arch)) {
+    fail(kExitUsage, std::string("REPROJECT_FORCE_ARCH: unknown instruction set '") + forced + "' (scalar, sse, avx2, avx512)");
+  }
+}
+
 Arch arch_from_flags(const Flags& flags) {
   if (!flags.has("arch")) return selected_arch();
   const std::string name = flags.text("arch");
@@ -282,6 +291,18 @@ DepthFile load_depth(const Flags& flags, const DepthDecoder& decoder) {
   return file;
 }
 
+io::ImageInfo frame_info(const Flags& flags) {
+  flags.require("color");
+  flags.require("depth");
+  const std::string color_path = flags.text("color"), depth_path = flags.text("depth");
+  const io::ImageInfo color = color_info(color_path), depth = depth_info(depth_path);
+  if (color.width != depth.width || color.height != depth.height) {
+    fail(kExitInput, "colour '" + color_path + "' is " + size_text(color.width, color.height) + " but depth '" +
+                         depth_path + "' is " + size_text(depth.width, depth.height));
+  }
+  return color;
+}
+
 Frame load_frame(const Flags& flags, const DepthDecoder& decoder) {
   flags.require("color");
   flags.require("depth");
@@ -291,16 +312,10 @@ Frame load_frame(const Flags& flags, const DepthDecoder& decoder) {
     const std::string v = flags.text("unknown-depth");
     if (v != "nan" && v != "NaN" && v != "NAN") (void)flags.number("unknown-depth", 0.0);
   }
+  (void)frame_info(flags);
   Frame frame;
-  const std::string color_path = flags.text("color"), depth_path = flags.text("depth");
-  frame.color = read_color(color_path);
+  frame.color = read_color(flags.text("color"));
   DepthFile depth = load_depth(flags, decoder);
-  const Image& c = frame.color.image;
-  if (c.width() != depth.depth.width() || c.height() != depth.depth.height()) {
-    fail(kExitInput, "colour '" + color_path + "' is " + std::to_string(c.width()) + "x" + std::to_string(c.height()) +
-                         " but depth '" + depth_path + "' is " + std::to_string(depth.depth.width()) + "x" +
-                         std::to_string(depth.depth.height()));
-  }
   frame.depth_bits = depth.bits;
   frame.depth_scale = depth.scale;
   frame.unknown_filled = depth.unknown_filled;

@@ -126,6 +126,9 @@ int run_warp(int argc, char** argv) {
   EyeDirection direction = EyeDirection::centre_to_right;
   (void)model_from_flags(flags, 1, &direction);
 
+  OutputSet out;
+  out.inputs(flags, {"color", "depth"});
+  out.outputs(flags, {"out", "out-depth", "status", "source-x"});
   Frame frame = load_frame(flags, decoder);
   dilate_depth(&frame.depth, decoder, dilate);
   const int w = target_width(frame, opts), h = frame.depth.height();
@@ -134,7 +137,6 @@ int run_warp(int argc, char** argv) {
   EyeBuffers eye(w, h, frame.color.image.channels(), flags.has("source-x"));
   check_status(reproject::reproject(source_of(frame), decoder, model, opts, eye.view()), "reproject");
 
-  OutputSet out;
   out.color(flags.text("out"), eye.color.color(), color_png_bits(frame));
   if (flags.has("out-depth")) {
     out.plane(flags.text("out-depth"), depth_in_file_units(eye.depth, frame.depth_scale).plane(0), depth_png_bits(frame));
@@ -210,6 +212,9 @@ int run_pair(int argc, char** argv) {
   flags.require("depth");
   (void)model_from_flags(flags, 1, nullptr);
 
+  OutputSet out;
+  out.inputs(flags, {"color", "depth"});
+  out.outputs(flags, std::vector<const char*>(std::begin(outputs), std::end(outputs)));
   Frame frame = load_frame(flags, decoder);
   dilate_depth(&frame.depth, decoder, dilate);
   const int w = target_width(frame, opts), h = frame.depth.height();
@@ -219,7 +224,6 @@ int run_pair(int argc, char** argv) {
   check_status(reproject::reproject_pair(source_of(frame), decoder, to_right, opts, left.view(), right.view()),
                "reproject_pair");
 
-  OutputSet out;
   const int bits = color_png_bits(frame);
   if (flags.has("out-left")) out.color(flags.text("out-left"), left.color.color(), bits);
   if (flags.has("out-right")) out.color(flags.text("out-right"), right.color.color(), bits);

@@ -16,6 +16,7 @@
 #include <ImfHeader.h>
 #include <ImfIO.h>
 #include <ImfInputFile.h>
+#include <ImfLineOrder.h>
 #include <ImfOutputFile.h>
 #include <ImfVersion.h>
 #include <Iex.h>
@@ -65,10 +66,12 @@ class FileInput final : public Imf::IStream {
     return static_cast<std::uint64_t>(position);
   }
   void seekg(std::uint64_t position) override {
-    // Seeking past the end succeeds; the read that follows reports the truncation.
-    if (position > static_cast<std::uint64_t>(LONG_MAX) ||
-        std::fseek(file_, static_cast<long>(position), SEEK_SET) != 0) {
-      throw Iex::IoExc("cannot seek");
+    // Seeking past the end succeeds; the read that follows reports the truncation. An offset
+    // beyond any possible file (a damaged or cut offset table: the system refuses the seek) is
+    // reported as the file ending too.
+    if (position > static_cast<std::uint64_t>(LONG_MAX) || std::fseek(file_, static_cast<long>(position), SEEK_SET) != 0) {
+      ended_ = true;
+      throw Iex::InputExc("an offset beyond the end of the file");
     }
   }
   void clear() override { std::clearerr(file_); }
@@ -298,8 +301,9 @@ IoStatus unsupported_sampling(const std::string& path, const ChannelInfo& channe
                                            std::to_string(channel.y_sampling) + ")");
 }
 
+// Reads the planes the purpose wants; with `info_only`, only says what they would be.
 IoStatus read_exr_file(const std::string& path, LoadedImage* out, const ExrReadOptions& options, Purpose purpose,
-                       FileInput* stream) {
+                       FileInput* stream, ImageInfo* info_only) {
   Imf::InputFile file(*stream);
   const Imf::Header& header = file.header();
   const Imath::Box2i window = header.dataWindow();
@@ -358,30 +362,51 @@ IoStatus read_exr_file(const std::string& path, LoadedImage* out, const ExrReadO
 
   const int w = static_cast<int>(width);
   const int h = static_cast<int>(height);
-  Image color;
-  Image depth;
-  if (!color_names.empty()) {
-    color = Image(w, h, static_cast<int>(color_names.size()));
-    if (color.empty()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
-  }
-  if (!depth_name.empty()) {
-    depth = Image(w, h, 1);
-    if (depth.empty()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
+  if (info_only != nullptr) {
+    const int channels = purpose == Purpose::depth ? 1 : static_cast<int>(color_names.size());
+    *info_only = ImageInfo{w, h, channels, FileFormat::exr};
+    return {};
   }
 
-  // Every slice is float: OpenEXR converts half and uint channels while reading.
-  Imf::FrameBuffer frame;
-  const std::size_t x_stride = sizeof(float);
-  for (std::size_t c = 0; c < color_names.size(); ++c) {
-    frame.insert(color_names[c], Imf::Slice::Make(Imf::FLOAT, color.plane_data(static_cast<int>(c)), window, x_stride,
-                                                  static_cast<std::size_t>(color.stride()) * sizeof(float)));
+  // Every slice is float: OpenEXR converts half and uint channels while reading. `rows` is the
+  // part of the data window that `color` and `depth` hold.
+  auto read_rows = [&](Image* color, Image* depth, int y0, int y1) {
+    const Imath::Box2i rows(Imath::V2i(window.min.x, y0), Imath::V2i(window.max.x, y1));
+    Imf::FrameBuffer frame;
+    const std::size_t x_stride = sizeof(float);
+    for (std::size_t c = 0; c < color_names.size(); ++c) {
+      frame.insert(color_names[c], Imf::Slice::Make(Imf::FLOAT, color->plane_data(static_cast<int>(c)), rows, x_stride,
+                                                    static_cast<std::size_t>(color->stride()) * sizeof(float)));
+    }
+    if (!depth_name.empty()) {
+      frame.insert(depth_name, Imf::Slice::Make(Imf::FLOAT, depth->plane_data(), rows, x_stride,
+                                                static_cast<std::size_t>(depth->stride()) * sizeof(float)));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(y0, y1);
+  };
+  auto allocate = [&](int rows, Image* color, Image* depth) {
+    if (!color_names.empty()) *color = Image(w, rows, static_cast<int>(color_names.size()));
+    if (!depth_name.empty()) *depth = Image(w, rows, 1);
+    return (color_names.empty() || !color->empty()) && (depth_name.empty() || !depth->empty());
+  };
+
+  // The last row stored first (the bottom one, unless the file stores them bottom to top), into
+  // a one-row band: a file cut short, or whose data window promises more than it stores, fails
+  // here, before the image is allocated. (OpenEXR still allocates what it needs to decompress the
+  // chunk that row is in.)
+  {
+    const int y = header.lineOrder() == Imf::DECREASING_Y ? window.min.y : window.max.y;
+    Image color_row, depth_row;
+    if (!allocate(1, &color_row, &depth_row)) {
+      return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
+    }
+    read_rows(&color_row, &depth_row, y, y);
   }
-  if (!depth_name.empty()) {
-    frame.insert(depth_name, Imf::Slice::Make(Imf::FLOAT, depth.plane_data(), window, x_stride,
-                                              static_cast<std::size_t>(depth.stride()) * sizeof(float)));
-  }
-  file.setFrameBuffer(frame);
-  file.readPixels(window.min.y, window.max.y);
+  Image color;
+  Image depth;
+  if (!allocate(h, &color, &depth)) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
+  read_rows(&color, &depth, window.min.y, window.max.y);
 
   out->bit_depth = all_half ? 16 : 32;
   out->format = FileFormat::exr;
@@ -397,7 +422,8 @@ IoStatus read_exr_file(const std::string& path, LoadedImage* out, const ExrReadO
 }
 
 // Opens `path`, checks the magic number, and reads; every exception becomes an IoStatus.
-IoStatus read_exr_checked(const std::string& path, LoadedImage* out, const ExrReadOptions& options, Purpose purpose) {
+IoStatus read_exr_checked(const std::string& path, LoadedImage* out, const ExrReadOptions& options, Purpose purpose,
+                          ImageInfo* info_only = nullptr) {
   if (out == nullptr) return failure(IoError::invalid_argument, "read_exr: null output");
   *out = LoadedImage{};
   detail::InputFile file;
@@ -420,7 +446,7 @@ IoStatus read_exr_checked(const std::string& path, LoadedImage* out, const ExrRe
   FileInput stream(file.get(), path);
   IoStatus status;
   try {
-    status = read_exr_file(path, out, options, purpose, &stream);
+    status = read_exr_file(path, out, options, purpose, &stream, info_only);
   } catch (const std::bad_alloc&) {
     status = failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
   } catch (const std::exception& error) {
@@ -555,12 +581,13 @@ IoStatus write_exr_file(const std::string& path, const ColorView& color, const F
 
 // The part of reading outside read_exr_file's own try block can only throw std::bad_alloc (while
 // building a message or a name list).
-IoStatus read_exr_safely(const std::string& path, LoadedImage* out, const ExrReadOptions& options, Purpose purpose) {
+IoStatus read_exr_safely(const std::string& path, LoadedImage* out, const ExrReadOptions& options, Purpose purpose,
+                         ImageInfo* info_only = nullptr) {
   try {
-    return read_exr_checked(path, out, options, purpose);
+    return read_exr_checked(path, out, options, purpose, info_only);
   } catch (const std::bad_alloc&) {
     if (out != nullptr) *out = LoadedImage{};
-    return failure(IoError::out_of_memory, "out of memory");
+    return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
   }
 }
 
@@ -574,6 +601,11 @@ IoStatus read_exr_color(const std::string& path, LoadedImage* out) {
 
 IoStatus read_exr_depth(const std::string& path, LoadedImage* out) {
   return read_exr_safely(path, out, ExrReadOptions{}, Purpose::depth);
+}
+
+IoStatus read_exr_info(const std::string& path, bool depth, ImageInfo* out) {
+  LoadedImage unused;
+  return read_exr_safely(path, &unused, ExrReadOptions{}, depth ? Purpose::depth : Purpose::color, out);
 }
 
 }  // namespace detail

@@ -1,9 +1,12 @@
 #include "imageio/file_util.hpp"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <system_error>
@@ -26,6 +29,46 @@ const char* to_string(IoError error) noexcept {
     case IoError::size_mismatch: return "size_mismatch";
   }
   return "unknown";
+}
+
+// ---- the registry of temporary files ----
+//
+// A fixed table of malloc'd C strings, each slot an atomic pointer: a signal handler may read it
+// at any moment, so nothing here locks, and a name is taken out of its slot before it is freed.
+namespace {
+constexpr int kTemporarySlots = 256;
+std::atomic<char*> temporary_slots[kTemporarySlots];
+}  // namespace
+
+void track_temporary(const std::string& path) {
+  char* copy = strdup(path.c_str());
+  if (copy == nullptr) return;  // untracked: only a signal's clean-up would miss it
+  for (std::atomic<char*>& slot : temporary_slots) {
+    char* expected = nullptr;
+    if (slot.compare_exchange_strong(expected, copy)) return;
+  }
+  std::free(copy);
+}
+
+void untrack_temporary(const std::string& path) {
+  for (std::atomic<char*>& slot : temporary_slots) {
+    char* name = slot.load();
+    if (name != nullptr && path == name && slot.compare_exchange_strong(name, nullptr)) {
+      std::free(name);
+      return;
+    }
+  }
+}
+
+void remove_temporary_files() noexcept {
+  // Files first; then directories (rmdir fails on a file and on a non-empty directory), newest
+  // first, so that a nest of directories created one inside the other goes from the inside.
+  for (std::atomic<char*>& slot : temporary_slots) {
+    if (const char* name = slot.load()) unlink(name);
+  }
+  for (int i = kTemporarySlots - 1; i >= 0; --i) {
+    if (const char* name = temporary_slots[i].load()) rmdir(name);
+  }
 }
 
 namespace detail {
@@ -87,6 +130,7 @@ void ReplacingFile::discard() noexcept {
   }
   if (!temporary_.empty()) {
     std::remove(temporary_.c_str());
+    untrack_temporary(temporary_);
     temporary_.clear();
   }
 }
@@ -101,6 +145,7 @@ IoStatus ReplacingFile::create(const std::string& destination) {
     file_ = std::fopen(name.c_str(), "wbx");
     if (file_ != nullptr) {
       temporary_ = std::move(name);
+      track_temporary(temporary_);
       return {};
     }
     code = errno;
@@ -131,6 +176,7 @@ IoStatus ReplacingFile::commit() {
     return failure(IoError::write_failed, "cannot rename the temporary file onto " + quote_path(destination_) +
                                               ": " + error.message());
   }
+  untrack_temporary(temporary_);
   temporary_.clear();
   return {};
 }

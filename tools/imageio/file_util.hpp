@@ -76,4 +76,10 @@ inline float sample(const ColorView& color, int c, int x, int y) noexcept {
 IoStatus read_exr_color(const std::string& path, LoadedImage* out);
 IoStatus read_exr_depth(const std::string& path, LoadedImage* out);
 
+// The header phase of each reader (read_image_info, read_depth_info): width, height and the
+// channels the reader would return, with every check that needs no pixel.
+IoStatus read_png_info(const std::string& path, ImageInfo* out);
+IoStatus read_pfm_info(const std::string& path, ImageInfo* out);
+IoStatus read_exr_info(const std::string& path, bool depth, ImageInfo* out);
+
 }  // namespace reproject::io::detail

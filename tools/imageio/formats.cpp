@@ -56,7 +56,48 @@ IoStatus read_depth_file(const std::string& path, LoadedImage* out) {
   return unknown_extension(path);
 }
 
+// The header phase of read_image_file / read_depth_file: the same errors, no pixel decoded.
+IoStatus read_info_file(const std::string& path, bool depth, ImageInfo* out) {
+  *out = ImageInfo{};
+  IoStatus status;
+  const char* what = "";
+  switch (format_from_path(path)) {
+    case FileFormat::png: status = detail::read_png_info(path, out); what = "PNG (grey)"; break;
+    case FileFormat::pfm: status = detail::read_pfm_info(path, out); what = "PFM (Pf)"; break;
+    case FileFormat::exr: return detail::read_exr_info(path, depth, out);
+    case FileFormat::unknown: return unknown_extension(path);
+  }
+  if (status && depth && out->channels != 1) {
+    const int channels = out->channels;
+    *out = ImageInfo{};
+    return failure(IoError::unsupported, quote_path(path) + ": unsupported channel layout: a depth " + what +
+                                             " must have 1 channel, this one has " + std::to_string(channels));
+  }
+  if (!status) *out = ImageInfo{};
+  return status;
+}
+
+IoStatus out_of_memory_reading(const std::string& path) {
+  return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
+}
+
+IoStatus read_info(const std::string& path, bool depth, ImageInfo* out) {
+  if (out == nullptr) return failure(IoError::invalid_argument, "read_image_info: null output");
+  try {
+    return read_info_file(path, depth, out);
+  } catch (const std::bad_alloc&) {
+    *out = ImageInfo{};
+    return out_of_memory_reading(path);
+  } catch (const std::exception& error) {
+    *out = ImageInfo{};
+    return failure(IoError::read_failed, error.what());
+  }
+}
+
 }  // namespace
+
+IoStatus read_image_info(const std::string& path, ImageInfo* out) { return read_info(path, false, out); }
+IoStatus read_depth_info(const std::string& path, ImageInfo* out) { return read_info(path, true, out); }
 
 const char* to_string(FileFormat format) noexcept {
   switch (format) {
@@ -89,7 +130,7 @@ IoStatus read_image(const std::string& path, LoadedImage* out) {
     return read_image_file(path, out);
   } catch (const std::bad_alloc&) {
     *out = LoadedImage{};
-    return failure(IoError::out_of_memory, "out of memory");
+    return out_of_memory_reading(path);
   }
 }
 
@@ -103,7 +144,7 @@ IoStatus write_image(const std::string& path, const ColorView& color, const Writ
     }
     return unknown_extension(path);
   } catch (const std::bad_alloc&) {
-    return failure(IoError::out_of_memory, "out of memory");
+    return failure(IoError::out_of_memory, "out of memory writing " + quote_path(path));
   }
 }
 
@@ -113,7 +154,7 @@ IoStatus read_depth(const std::string& path, LoadedImage* out) {
     return read_depth_file(path, out);
   } catch (const std::bad_alloc&) {
     *out = LoadedImage{};
-    return failure(IoError::out_of_memory, "out of memory");
+    return out_of_memory_reading(path);
   }
 }
 
@@ -128,7 +169,7 @@ IoStatus write_depth(const std::string& path, const FloatPlane& depth, const Wri
     }
     return unknown_extension(path);
   } catch (const std::bad_alloc&) {
-    return failure(IoError::out_of_memory, "out of memory");
+    return failure(IoError::out_of_memory, "out of memory writing " + quote_path(path));
   }
 }
 

@@ -60,6 +60,17 @@ struct LoadedImage {
   std::string depth_channel;  // EXR: the full name of the channel read as depth ("" none)
 };
 
+// What a file's header says, read without decoding a pixel (read_image_info, read_depth_info).
+// Every check that needs no pixel is made here too (size limits, a file too short for its size, a
+// channel layout read_image or read_depth would refuse), so that a command can check all of its
+// inputs against each other before it decodes, and allocates, anything.
+struct ImageInfo {
+  int width = 0;
+  int height = 0;
+  int channels = 0;  // as read_image / read_depth would return them
+  FileFormat format = FileFormat::unknown;
+};
+
 // ---- PNG ----
 
 // Reads a PNG file: 8- and 16-bit grey, grey + alpha, RGB and RGBA as stored. Other forms are
@@ -133,6 +144,10 @@ IoStatus write_exr(const std::string& path, const ColorView& color, const FloatP
 
 // ---- By extension ----
 
+// The header of what read_image (read_depth) would read; the same errors, without the pixels.
+IoStatus read_image_info(const std::string& path, ImageInfo* out);
+IoStatus read_depth_info(const std::string& path, ImageInfo* out);
+
 struct WriteOptions {
   int png_bit_depth = 0;  // 8 or 16; 0: 8 for write_image, 16 for write_depth
   ByteOrder pfm_byte_order = ByteOrder::little;
@@ -157,5 +172,15 @@ IoStatus read_depth(const std::string& path, LoadedImage* out);
 // PNG: grey, quantised like write_png (16-bit unless options say 8); PFM: "Pf"; EXR: one channel
 // named options.exr.depth_channel of type options.exr.depth_type.
 IoStatus write_depth(const std::string& path, const FloatPlane& depth, const WriteOptions& options = {});
+
+// ---- Temporary files ----
+//
+// Every temporary file the writers create (and any a caller registers, e.g. the tool's staged
+// outputs) is tracked until it is renamed into place or deleted, so that a signal handler can
+// remove them: remove_temporary_files() is async-signal-safe. It unlinks every tracked file, then
+// removes every tracked directory that is empty, newest first.
+void track_temporary(const std::string& path);
+void untrack_temporary(const std::string& path);
+void remove_temporary_files() noexcept;
 
 }  // namespace reproject::io

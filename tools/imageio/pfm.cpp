@@ -10,6 +10,8 @@
 // Bytes are assembled into 32-bit words explicitly, so the code does not depend on the host's byte
 // order; the words are then reinterpreted as IEEE floats with memcpy, so every value, NaN payloads
 // included, round-trips bit for bit.
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -113,11 +115,25 @@ IoStatus header_failure(TokenResult result, const std::string& path, const char*
   }
 }
 
-IoStatus read_pfm_file(const std::string& path, LoadedImage* out) {
-  detail::InputFile file;
-  if (IoStatus status = file.open(path); !status) return status;
-  std::FILE* f = file.get();
+IoStatus pixel_data_truncated(const std::string& path, unsigned long long got, unsigned long long total, int width,
+                              int height, int channels) {
+  return failure(IoError::truncated, quote_path(path) + " is truncated: " + std::to_string(got) + " of " +
+                                         std::to_string(total) + " bytes of pixel data (" +
+                                         detail::size_text(width, height) + ", " + std::to_string(channels) +
+                                         (channels == 1 ? " channel)" : " channels)"));
+}
 
+struct PfmHeader {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  ByteOrder order = ByteOrder::little;
+};
+
+// Reads and checks the header, leaving `f` at the first pixel byte. Checked besides the syntax:
+// the size limit, and that the file (when it is a regular file, whose size is known) holds every
+// pixel the header promises, so that no reader allocates for data the file does not have.
+IoStatus read_pfm_header(std::FILE* f, const std::string& path, PfmHeader* header) {
   // Magic: 'P', then 'F' or 'f', then whitespace.
   unsigned char magic[3] = {};
   errno = 0;
@@ -152,35 +168,53 @@ IoStatus read_pfm_file(const std::string& path, LoadedImage* out) {
     return failure(IoError::corrupt,
                    quote_path(path) + " is not a valid PFM file: bad scale \"" + token + "\" (nonzero, finite)");
   }
-  const ByteOrder order = scale < 0.0 ? ByteOrder::little : ByteOrder::big;
 
   if (static_cast<unsigned long long>(width) * static_cast<unsigned long long>(height) > detail::kMaxPixels) {
     return failure(IoError::unsupported, quote_path(path) + ": image of " + detail::size_text(width, height) +
                                              " pixels exceeds the " + std::to_string(detail::kMaxPixels) +
                                              "-pixel limit");
   }
-  const std::size_t row_bytes = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels) * 4;
-  const std::size_t total = row_bytes * static_cast<std::size_t>(height);
-  std::vector<unsigned char> bytes(total);
-  errno = 0;
-  const std::size_t read = std::fread(bytes.data(), 1, total, f);
-  if (read < total) {
-    if (std::ferror(f) != 0) return detail::read_error(path, errno);
-    return failure(IoError::truncated, quote_path(path) + " is truncated: " + std::to_string(read) + " of " +
-                                           std::to_string(total) + " bytes of pixel data (" +
-                                           detail::size_text(width, height) + ", " + std::to_string(channels) +
-                                           (channels == 1 ? " channel)" : " channels)"));
+  const unsigned long long total = 4ULL * static_cast<unsigned long long>(width) * height * channels;
+  struct stat info = {};
+  const long position = std::ftell(f);
+  if (fstat(fileno(f), &info) == 0 && S_ISREG(info.st_mode) && position >= 0) {
+    const unsigned long long available =
+        info.st_size > position ? static_cast<unsigned long long>(info.st_size - position) : 0ULL;
+    if (available < total) return pixel_data_truncated(path, available, total, width, height, channels);
   }
+  header->width = width;
+  header->height = height;
+  header->channels = channels;
+  header->order = scale < 0.0 ? ByteOrder::little : ByteOrder::big;
+  return {};
+}
 
+IoStatus read_pfm_file(const std::string& path, LoadedImage* out) {
+  detail::InputFile file;
+  if (IoStatus status = file.open(path); !status) return status;
+  std::FILE* f = file.get();
+  PfmHeader header;
+  if (IoStatus status = read_pfm_header(f, path, &header); !status) return status;
+  const int width = header.width, height = header.height, channels = header.channels;
+
+  // Straight into the image, one row at a time: the only large allocation is the image itself.
   Image image(width, height, channels);
   if (image.empty()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
+  const std::size_t row_bytes = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels) * 4;
+  std::vector<unsigned char> row(row_bytes);
   for (int file_row = 0; file_row < height; ++file_row) {
+    errno = 0;
+    const std::size_t read = std::fread(row.data(), 1, row_bytes, f);
+    if (read < row_bytes) {
+      if (std::ferror(f) != 0) return detail::read_error(path, errno);
+      return pixel_data_truncated(path, static_cast<unsigned long long>(file_row) * row_bytes + read,
+                                  static_cast<unsigned long long>(row_bytes) * height, width, height, channels);
+    }
     const int y = height - 1 - file_row;  // the file starts at the bottom row
-    const unsigned char* source = bytes.data() + static_cast<std::size_t>(file_row) * row_bytes;
     for (int c = 0; c < channels; ++c) {
       float* target = image.mutable_plane(c).row(y);
       for (int x = 0; x < width; ++x) {
-        target[x] = word_to_float(load_word(source + 4 * (static_cast<std::size_t>(x) * channels + c), order));
+        target[x] = word_to_float(load_word(row.data() + 4 * (static_cast<std::size_t>(x) * channels + c), header.order));
       }
     }
   }
@@ -251,6 +285,19 @@ IoStatus read_pfm(const std::string& path, LoadedImage* out) {
     return failure(IoError::read_failed, error.what());
   }
 }
+
+namespace detail {
+
+IoStatus read_pfm_info(const std::string& path, ImageInfo* out) {
+  InputFile file;
+  if (IoStatus status = file.open(path); !status) return status;
+  PfmHeader header;
+  if (IoStatus status = read_pfm_header(file.get(), path, &header); !status) return status;
+  *out = ImageInfo{header.width, header.height, header.channels, FileFormat::pfm};
+  return {};
+}
+
+}  // namespace detail
 
 IoStatus write_pfm(const std::string& path, const ColorView& color, ByteOrder order) {
   try {

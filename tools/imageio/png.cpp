@@ -10,11 +10,14 @@
 // The callbacks themselves (I/O, errors) only touch the plain PngSession, never throw and never
 // hold objects with destructors.
 #include <png.h>
+#include <sys/stat.h>
 
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <memory>
 #include <new>
 #include <vector>
 
@@ -28,8 +31,7 @@ using detail::failure;
 using detail::quote_path;
 
 constexpr std::size_t kSignatureSize = 8;
-// Larger images than detail::kMaxPixels are refused; libpng's own limits (1,000,000 rows and
-// columns) apply as well.
+// Larger images than detail::kMaxPixels are refused.
 using detail::kMaxPixels;
 
 // What the callbacks know and report: plain data only (see the top of the file).
@@ -47,7 +49,9 @@ void record(PngSession* session, IoError error, const char* text) noexcept {
 }
 
 [[noreturn]] void on_png_error(png_structp png, png_const_charp text) {
-  record(static_cast<PngSession*>(png_get_error_ptr(png)), IoError::corrupt,
+  // libpng's own allocations fail with "Out of memory" (or "... Out of Memory"): not the file's fault.
+  const bool memory = text != nullptr && (std::strstr(text, "ut of memory") != nullptr || std::strstr(text, "ut of Memory") != nullptr);
+  record(static_cast<PngSession*>(png_get_error_ptr(png)), memory ? IoError::out_of_memory : IoError::corrupt,
          text != nullptr ? text : "unknown libpng error");
   png_longjmp(png, 1);
 }
@@ -95,6 +99,15 @@ IoStatus session_failure(const PngSession& session, const std::string& path) {
 
 // ---- reading ----
 
+// libpng refuses images wider or taller than its default user limits (1,000,000): the limits that
+// matter are ours (kMaxPixels) and the library's (2^22 columns), so both are raised to PNG's own.
+constexpr png_uint_32 kPngMaxDimension = 0x7fffffffu;
+
+// deflate expands its input at most 1032:1 (RFC 1951's longest match per shortest code); a file
+// whose every byte were image data could not inflate to more. The slack covers small streams.
+constexpr unsigned long long kDeflateMaxRatio = 1032;
+constexpr unsigned long long kDeflateSlack = 65536;
+
 // The decoded layout after our transforms: always 8 or 16 bits, 1..4 channels.
 struct PngLayout {
   png_uint_32 width = 0;
@@ -102,6 +115,8 @@ struct PngLayout {
   int channels = 0;
   int bit_depth = 0;
   std::size_t row_bytes = 0;
+  std::size_t file_row_bytes = 0;  // one row as stored (before our transforms), filter byte excluded
+  bool interlaced = false;
 };
 
 // Guarded (see the top of the file). Reads the header and asks libpng to expand every colour
@@ -109,7 +124,10 @@ struct PngLayout {
 bool read_header(png_structp png, png_infop info, PngLayout* layout) {
   if (setjmp(png_jmpbuf(png)) != 0) return false;
   png_set_sig_bytes(png, static_cast<int>(kSignatureSize));
+  png_set_user_limits(png, kPngMaxDimension, kPngMaxDimension);
   png_read_info(png, info);
+  layout->file_row_bytes = png_get_rowbytes(png, info);
+  layout->interlaced = png_get_interlace_type(png, info) != PNG_INTERLACE_NONE;
   const int color_type = png_get_color_type(png, info);
   if (color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
   if (color_type == PNG_COLOR_TYPE_GRAY && png_get_bit_depth(png, info) < 8) png_set_expand_gray_1_2_4_to_8(png);
@@ -124,8 +142,35 @@ bool read_header(png_structp png, png_infop info, PngLayout* layout) {
   return true;
 }
 
-// Guarded. Reads the pixels, then the chunks up to IEND (so truncation and CRC errors after the
-// image data are reported too).
+// One decoded row (8- or 16-bit samples, interleaved) into row y of the image's planes.
+void convert_row(const png_byte* source, const PngLayout& layout, Image* image, int y) noexcept {
+  const int width = static_cast<int>(layout.width);
+  for (int c = 0; c < layout.channels; ++c) {
+    float* target = image->mutable_plane(c).row(y);
+    if (layout.bit_depth == 8) {
+      for (int x = 0; x < width; ++x) target[x] = static_cast<float>(source[x * layout.channels + c]);
+    } else {
+      for (int x = 0; x < width; ++x) {
+        const png_byte* sample = source + 2 * (x * layout.channels + c);  // big-endian in the file
+        target[x] = static_cast<float>((static_cast<unsigned>(sample[0]) << 8) | sample[1]);
+      }
+    }
+  }
+}
+
+// Guarded. A non-interlaced image, decoded one row at a time straight into `image`, then the
+// chunks up to IEND (so truncation and CRC errors after the image data are reported too).
+bool read_rows_into(png_structp png, png_bytep row, const PngLayout* layout, Image* image) {
+  if (setjmp(png_jmpbuf(png)) != 0) return false;
+  for (png_uint_32 y = 0; y < layout->height; ++y) {
+    png_read_row(png, row, nullptr);
+    convert_row(row, *layout, image, static_cast<int>(y));
+  }
+  png_read_end(png, nullptr);
+  return true;
+}
+
+// Guarded. An interlaced image: every pass refines every row, so the whole image is decoded at once.
 bool read_rows(png_structp png, png_bytepp rows) {
   if (setjmp(png_jmpbuf(png)) != 0) return false;
   png_read_image(png, rows);
@@ -153,18 +198,30 @@ class ReadStruct {
   png_infop info_ = nullptr;
 };
 
-IoStatus read_png_file(const std::string& path, LoadedImage* out) {
-  detail::InputFile file;
-  if (IoStatus status = file.open(path); !status) return status;
+// A PNG file whose header has been read and checked (open), ready to decode (read). The header
+// checks come first so that nothing large is allocated for a file that cannot hold its image.
+class PngReader {
+ public:
+  IoStatus open(const std::string& path);
+  const PngLayout& layout() const noexcept { return layout_; }
+  IoStatus read(LoadedImage* out);
+
+ private:
+  std::string path_;
+  detail::InputFile file_;
+  PngSession session_;
+  std::unique_ptr<ReadStruct> reader_;
+  PngLayout layout_;
+};
+
+IoStatus PngReader::open(const std::string& path) {
+  path_ = path;
+  if (IoStatus status = file_.open(path); !status) return status;
 
   png_byte signature[kSignatureSize] = {};
   errno = 0;
-  const std::size_t got = std::fread(signature, 1, kSignatureSize, file.get());
-  if (got < kSignatureSize && std::ferror(file.get()) != 0) {
-    const int code = errno;
-    return failure(IoError::read_failed, "cannot read " + quote_path(path) + ": " +
-                                             (code != 0 ? detail::system_error_text(code) : "unknown error"));
-  }
+  const std::size_t got = std::fread(signature, 1, kSignatureSize, file_.get());
+  if (got < kSignatureSize && std::ferror(file_.get()) != 0) return detail::read_error(path, errno);
   if (got == 0) return failure(IoError::not_this_format, quote_path(path) + " is not a PNG file: it is empty");
   if (png_sig_cmp(signature, 0, got) != 0) {
     return failure(IoError::not_this_format, quote_path(path) + " is not a PNG file (no PNG signature)");
@@ -173,57 +230,64 @@ IoStatus read_png_file(const std::string& path, LoadedImage* out) {
     return failure(IoError::truncated, quote_path(path) + " is truncated: the file ends inside the PNG signature");
   }
 
-  PngSession session;
-  session.file = file.get();
-  ReadStruct reader(&session);
-  if (!reader.ok()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
-  png_set_read_fn(reader.png(), &session, read_from_file);
+  session_.file = file_.get();
+  reader_ = std::make_unique<ReadStruct>(&session_);
+  if (!reader_->ok()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
+  png_set_read_fn(reader_->png(), &session_, read_from_file);
 
-  PngLayout layout;
-  if (!read_header(reader.png(), reader.info(), &layout)) return session_failure(session, path);
-  if ((layout.bit_depth != 8 && layout.bit_depth != 16) || layout.channels < 1 || layout.channels > 4) {
+  if (!read_header(reader_->png(), reader_->info(), &layout_)) return session_failure(session_, path);
+  if ((layout_.bit_depth != 8 && layout_.bit_depth != 16) || layout_.channels < 1 || layout_.channels > 4) {
     return failure(IoError::unsupported, quote_path(path) + ": unsupported PNG layout after expansion (" +
-                                             std::to_string(layout.channels) + " channels of " +
-                                             std::to_string(layout.bit_depth) + " bits)");
+                                             std::to_string(layout_.channels) + " channels of " +
+                                             std::to_string(layout_.bit_depth) + " bits)");
   }
-  if (static_cast<unsigned long long>(layout.width) * layout.height > kMaxPixels) {
-    return failure(IoError::unsupported, quote_path(path) + ": image of " + std::to_string(layout.width) + "x" +
-                                             std::to_string(layout.height) + " pixels exceeds the " +
+  if (static_cast<unsigned long long>(layout_.width) * layout_.height > kMaxPixels) {
+    return failure(IoError::unsupported, quote_path(path) + ": image of " + std::to_string(layout_.width) + "x" +
+                                             std::to_string(layout_.height) + " pixels exceeds the " +
                                              std::to_string(kMaxPixels) + "-pixel limit");
   }
-  const int bytes_per_sample = layout.bit_depth / 8;
-  if (layout.row_bytes < static_cast<std::size_t>(layout.width) * layout.channels * bytes_per_sample) {
+  if (layout_.row_bytes < static_cast<std::size_t>(layout_.width) * layout_.channels * (layout_.bit_depth / 8)) {
     return failure(IoError::unsupported, quote_path(path) + ": unexpected row size from libpng");
   }
-
-  std::vector<png_byte> pixels(layout.row_bytes * layout.height);
-  std::vector<png_bytep> rows(layout.height);
-  for (png_uint_32 y = 0; y < layout.height; ++y) rows[y] = pixels.data() + y * layout.row_bytes;
-  if (!read_rows(reader.png(), rows.data())) return session_failure(session, path);
-
-  const int width = static_cast<int>(layout.width);
-  const int height = static_cast<int>(layout.height);
-  Image image(width, height, layout.channels);
-  if (image.empty()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
-  for (int c = 0; c < layout.channels; ++c) {
-    const MutableFloatPlane plane = image.mutable_plane(c);
-    for (int y = 0; y < height; ++y) {
-      const png_byte* source = rows[y];
-      float* target = plane.row(y);
-      if (bytes_per_sample == 1) {
-        for (int x = 0; x < width; ++x) target[x] = static_cast<float>(source[x * layout.channels + c]);
-      } else {
-        for (int x = 0; x < width; ++x) {
-          const png_byte* sample = source + 2 * (x * layout.channels + c);  // big-endian in the file
-          target[x] = static_cast<float>((static_cast<unsigned>(sample[0]) << 8) | sample[1]);
-        }
-      }
+  struct stat info = {};
+  if (fstat(fileno(file_.get()), &info) == 0 && S_ISREG(info.st_mode)) {
+    const unsigned long long raw = static_cast<unsigned long long>(layout_.height) * (layout_.file_row_bytes + 1);
+    const unsigned long long size = static_cast<unsigned long long>(info.st_size);
+    if (size * kDeflateMaxRatio + kDeflateSlack < raw) {
+      return failure(IoError::truncated, quote_path(path) + " is truncated: a " + std::to_string(layout_.width) + "x" +
+                                             std::to_string(layout_.height) + " PNG inflates to " +
+                                             std::to_string(raw) + " bytes, more than a file of " +
+                                             std::to_string(size) + " bytes can hold");
     }
   }
+  return {};
+}
+
+IoStatus PngReader::read(LoadedImage* out) {
+  const int width = static_cast<int>(layout_.width);
+  const int height = static_cast<int>(layout_.height);
+  Image image(width, height, layout_.channels);
+  if (image.empty()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path_));
+  if (!layout_.interlaced) {
+    std::vector<png_byte> row(layout_.row_bytes);
+    if (!read_rows_into(reader_->png(), row.data(), &layout_, &image)) return session_failure(session_, path_);
+  } else {
+    std::vector<png_byte> pixels(layout_.row_bytes * layout_.height);
+    std::vector<png_bytep> rows(layout_.height);
+    for (png_uint_32 y = 0; y < layout_.height; ++y) rows[y] = pixels.data() + y * layout_.row_bytes;
+    if (!read_rows(reader_->png(), rows.data())) return session_failure(session_, path_);
+    for (int y = 0; y < height; ++y) convert_row(rows[static_cast<std::size_t>(y)], layout_, &image, y);
+  }
   out->image = std::move(image);
-  out->bit_depth = layout.bit_depth;
+  out->bit_depth = layout_.bit_depth;
   out->format = FileFormat::png;
   return {};
+}
+
+IoStatus read_png_file(const std::string& path, LoadedImage* out) {
+  PngReader reader;
+  if (IoStatus status = reader.open(path); !status) return status;
+  return reader.read(out);
 }
 
 // ---- writing ----
@@ -238,6 +302,7 @@ struct PngHeader {
 // Guarded. Writes the whole file through the session's write callback.
 bool write_all(png_structp png, png_infop info, const PngHeader* header, png_bytepp rows) {
   if (setjmp(png_jmpbuf(png)) != 0) return false;
+  png_set_user_limits(png, kPngMaxDimension, kPngMaxDimension);
   png_set_IHDR(png, info, header->width, header->height, header->bit_depth, header->color_type,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
@@ -342,18 +407,30 @@ IoStatus read_png(const std::string& path, LoadedImage* out) {
     return read_png_file(path, out);
   } catch (const std::bad_alloc&) {
     *out = LoadedImage{};
-    return failure(IoError::out_of_memory, "out of memory");
+    return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
   } catch (const std::exception& error) {
     *out = LoadedImage{};
     return failure(IoError::read_failed, error.what());
   }
 }
 
+namespace detail {
+
+IoStatus read_png_info(const std::string& path, ImageInfo* out) {
+  PngReader reader;
+  if (IoStatus status = reader.open(path); !status) return status;
+  const PngLayout& layout = reader.layout();
+  *out = ImageInfo{static_cast<int>(layout.width), static_cast<int>(layout.height), layout.channels, FileFormat::png};
+  return {};
+}
+
+}  // namespace detail
+
 IoStatus write_png(const std::string& path, const ColorView& color, int bit_depth) {
   try {
     return write_png_file(path, color, bit_depth);
   } catch (const std::bad_alloc&) {
-    return failure(IoError::out_of_memory, "out of memory");
+    return failure(IoError::out_of_memory, "out of memory writing " + quote_path(path));
   } catch (const std::exception& error) {
     return failure(IoError::write_failed, error.what());
   }
