@@ -74,7 +74,8 @@ Arch best_supported() {
 // stderr (once), so that nobody reads a run as covering a set it did not execute.
 Arch choose() {
   const Arch best = best_supported();
-  if (const char* forced = std::getenv("REPROJECT_FORCE_ARCH")) {
+  const char* forced = std::getenv("REPROJECT_FORCE_ARCH");
+  if (forced != nullptr && *forced != '\0') {  // set and not empty (empty: as if unset)
     Arch arch;
     if (!parse_arch(forced, &arch)) {
       std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH='%s' is not one of scalar, sse, avx2, avx512; using %s\n",
