@@ -35,58 +35,56 @@ inline float exact_x_from_owner(const Frame& f, const float* parallax, int t, fl
   return owner + segment_frac(f, t, j, p0, 1.0f + (parallax[j + 1] - p0));
 }
 
-// Whether segment [j, j+1] with these endpoint parallaxes is certainly nowhere nearer than the
-// near limit, wherever the scalar sweep interpolates it (frac in [0, 1]): the interpolation
-// madd(frac, p1 - p0, p0) exceeds the nearer endpoint's key by at most 2^-23 (|p0| + |p1|) (one
-// rounding in p1 - p0, one in the madd), and the margin here is 2^-20 (|p0| + |p1|); the float sum
-// is below key_near only if the exact one is (rounding is monotone and key_near is a float).
-// Segments that fail this take the scalar sweep's own per-pixel test.
-inline bool segment_never_near(const Frame& f, float p0, float p1) {
-  const float nearer = std::max(f.s * p0, f.s * p1);
-  return nearer + (std::fabs(p0) + std::fabs(p1)) * 0x1p-20f < f.key_near;
-}
-
-// Pass 1 with clipping: the sweep of sweep_row, painting codes with masked stores.
-template <class Arch, class Fma>
-void exact_paint_clipping(const Frame& f, const float* parallax, float* owner) {
+// Pass 1 with clipping: the sweep of sweep_row, painting codes with masked stores. `margin` is
+// 2^-19 times the row's largest |p| (exact_may_clip): a segment whose nearer endpoint's key plus
+// it stays below key_near is nowhere nearer than the limit, wherever the scalar sweep
+// interpolates it (frac in [0, 1]): madd(frac, p1 - p0, p0) exceeds the nearer endpoint's key by
+// at most 2^-23 (|p0| + |p1|) (one rounding in p1 - p0, one in the madd), which is below 2^-20
+// (|p0| + |p1|) <= margin; and the float sum is below key_near only if the exact one is (rounding
+// is monotone, key_near is a float). Such segments (nearly all) take plain masked stores; those
+// whose farther endpoint's key minus the margin is above key_near are too near everywhere (the
+// same bound the other way) and paint nothing; the rest take the scalar sweep's own per-pixel
+// test, per lane.
+template <class Arch, class Fma, bool Upwards>
+void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, float margin) {
   using F = typename Lanes<Arch>::F;
   using B = typename Lanes<Arch>::B;
   constexpr int L = Lanes<Arch>::size;
   const int last = f.source_width - 1;
   const int width = f.target_width;
-  const F lanes = lane_offsets<Arch>(), s(f.s), key_near(f.key_near), guard(static_cast<float>(f.guard));
   for (int t = 0; t < width; t += L) F(kFarDefault).store_unaligned(owner + t);
-  // Code `code` onto targets [begin, end), except where near(target) (a lane mask) is set.
-  auto paint = [&](float code, int begin, int end, const auto& near) {
-    const F value(code), end_v(static_cast<float>(end));
-    for (int t = begin; t < end; t += L) {
-      const F target = F(static_cast<float>(t)) + lanes;  // exact: small integers
-      const B write = (target < end_v) & ~near(target);
-      xsimd::select(write, value, F::load_unaligned(owner + t)).store_unaligned(owner + t);
-    }
+  // Code `code` onto targets [begin, end).
+  auto paint = [&](float code, int begin, int end) {
+    const F value(code);
+    for (int t = begin; t < end; t += L) store_first_lanes<Arch>(value, owner + t, end - t);
   };
-  auto never = [](const F&) { return B(false); };
   auto paint_extension = [&](int column, float code, int begin, int end) {
     if (f.s * parallax[column] > f.key_near) return;  // the whole extension is too near
-    paint(code, begin, end, never);
+    paint(code, begin, end);
   };
+  const F lanes = lane_offsets<Arch>(), s(f.s), key_near(f.key_near), guard(static_cast<float>(f.guard));
+  const F zero(0.0f), one(1.0f);
   auto paint_segment = [&](int j, int begin, int end) {
     if (begin >= end) return;  // a fold
     const float p0 = parallax[j];
     const float p1 = parallax[j + 1];
-    if (segment_never_near(f, p0, p1)) return paint(static_cast<float>(j), begin, end, never);
-    // segment_frac and the scalar sweep's test, per lane.
-    const F zero(0.0f), one(1.0f), p0_v(p0), dp(p1 - p0), length(1.0f + (p1 - p0)), j_v(static_cast<float>(j));
-    paint(static_cast<float>(j), begin, end, [&](const F& target) {
+    const float k0 = f.s * p0, k1 = f.s * p1;
+    if (std::max(k0, k1) + margin < f.key_near) return paint(static_cast<float>(j), begin, end);
+    if (std::min(k0, k1) - margin > f.key_near) return;  // nearer everywhere: every pixel skipped
+    // segment_frac and the scalar sweep's test, per lane; the lanes it skips keep their code.
+    const F p0_v(p0), dp(p1 - p0), length(1.0f + (p1 - p0)), j_v(static_cast<float>(j)), end_v(static_cast<float>(end));
+    for (int t = begin; t < end; t += L) {
+      const F target = F(static_cast<float>(t)) + lanes;  // exact: small integers
       const F ratio = ((target + guard) - j_v - p0_v) / length;
       const F frac = xsimd::select(ratio < zero, zero, xsimd::select(one < ratio, one, ratio));  // std::clamp
-      return s * vmadd<Fma>(frac, dp, p0_v) > key_near;
-    });
+      const B write = (target < end_v) & ~(s * vmadd<Fma>(frac, dp, p0_v) > key_near);
+      xsimd::select(write, j_v, F::load_unaligned(owner + t)).store_unaligned(owner + t);
+    }
   };
   auto reach = [&](int column) {
-    return std::clamp(first_target_reached(f, column, parallax[column]) - f.guard, 0, width);
+    return std::clamp(first_target_reached<Upwards>(column, parallax[column]) - f.guard, 0, width);
   };
-  if (f.s < 0.0f) {
+  if constexpr (Upwards) {
     int begin = reach(0);
     paint_extension(0, kLeftExtension, 0, begin);
     for (int j = 0; j < last; ++j) {
@@ -146,18 +144,28 @@ void exact_paint(const Frame& f, const float* parallax, float* owner) {
   }
 }
 
-// The row's nearest key against the near limit (sweep_row's may_clip), with the vector max.
+// The row's nearest key against the near limit (sweep_row's may_clip), with the vector max; and
+// exact_paint_clipping's margin, from the row's largest |p|.
 template <class Arch>
-bool exact_may_clip(const Frame& f, const float* parallax) {
+bool exact_may_clip(const Frame& f, const float* parallax, float* margin) {
   using F = typename Lanes<Arch>::F;
   constexpr int L = Lanes<Arch>::size;
   if (f.near_from_frame) return false;  // the frame's own nearest: nothing is clipped
   const F s(f.s);
-  F nearest(f.key_far);
+  F nearest(f.key_far), largest(0.0f);
   int j = 0;
-  for (; j + L <= f.source_width; j += L) nearest = xsimd::max(nearest, s * F::load_unaligned(parallax + j));
+  for (; j + L <= f.source_width; j += L) {
+    const F p = F::load_unaligned(parallax + j);
+    nearest = xsimd::max(nearest, s * p);
+    largest = xsimd::max(largest, xsimd::abs(p));
+  }
   float key = lane_max<Arch>(nearest);
-  for (; j < f.source_width; ++j) key = std::max(key, f.s * parallax[j]);
+  float magnitude = lane_max<Arch>(largest);
+  for (; j < f.source_width; ++j) {
+    key = std::max(key, f.s * parallax[j]);
+    magnitude = std::max(magnitude, std::fabs(parallax[j]));
+  }
+  *margin = magnitude * 0x1p-19f;
   return key > f.key_near;  // max is exact: only the order of equal keys differs, not the test
 }
 
@@ -174,9 +182,11 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
   }
   const float* parallax = scratch.parallax;
   float* owner = scratch.owner_storage.data() + kOwnerPad;
-  const bool may_clip = exact_may_clip<Arch>(f, parallax);
-  if (may_clip) exact_paint_clipping<Arch, Fma>(f, parallax, owner);
-  else exact_paint<Arch>(f, parallax, owner);
+  float margin = 0.0f;
+  const bool may_clip = exact_may_clip<Arch>(f, parallax, &margin);
+  if (!may_clip) exact_paint<Arch>(f, parallax, owner);
+  else if (f.s < 0.0f) exact_paint_clipping<Arch, Fma, true>(f, parallax, owner, margin);
+  else exact_paint_clipping<Arch, Fma, false>(f, parallax, owner, margin);
 
   // Pass 2: source x across the lanes, then (with clipping) sweep_row's clipped test.
   const F zero(0.0f), one(1.0f), guard(static_cast<float>(f.guard)), lanes = lane_offsets<Arch>();

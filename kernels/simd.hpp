@@ -328,6 +328,27 @@ class ColumnFetch {
 #endif
 };
 
+// Stores the first `count` lanes of `value` (count >= 0; all of them when count >= L) and leaves
+// the memory after them untouched: a hardware masked store on AVX2 and AVX-512.
+template <class Arch>
+void store_first_lanes(const xsimd::batch<float, Arch>& value, float* out, int count) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  if (count >= L) return value.store_unaligned(out);
+#if defined(__AVX512F__)
+  if constexpr (sizeof(value) == 64) {
+    return _mm512_mask_storeu_ps(out, static_cast<__mmask16>((1u << count) - 1u), value);
+  }
+#endif
+#if defined(__AVX2__)
+  if constexpr (sizeof(value) == 32) {
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    return _mm256_maskstore_ps(out, _mm256_cmpgt_epi32(_mm256_set1_epi32(count), lanes), value);
+  }
+#endif
+  xsimd::select(lane_offsets<Arch>() < F(static_cast<float>(count)), value, F::load_unaligned(out)).store_unaligned(out);
+}
+
 template <class Arch>
 void store_flags(const xsimd::batch_bool<float, Arch>& flags, float* out) {
   using F = typename Lanes<Arch>::F;
