@@ -156,16 +156,16 @@ void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& ker
   const SearchRow search_left = kernels.search[static_cast<int>(left.method)];
   const SearchRow search_right = kernels.search[static_cast<int>(right.method)];
   for (int y = row_begin; y < row_end; ++y) {
-    // The depth row comes from memory once: the second eye decodes it again from the cache, with
-    // its own coefficients (the mirror of the first's), so each eye's parallax has exactly the
-    // bits its own call would give it, and the second eye's colour reads hit the rows the first
-    // eye's resolve has just read.
-    const float* depth = right.source.depth.row(y);
-    kernels.decode(right, depth, parallax);
+    // Each source row is read from memory once and decoded once: the left eye's model is the
+    // right's mirror (-a, -b), so its decode is the negation of the right eye's, bit for bit
+    // (the decode constants are exact negations, rounding is symmetric, both eyes' keys s * p are
+    // equal, so the clamps pick the same branch; zeros are +0 on both sides, hence 0 - p). The
+    // left eye's colour reads then hit the rows the right eye's resolve has just read.
+    kernels.decode(right, right.source.depth.row(y), parallax);
     pad_parallax_row(right, parallax);
     search_right(right, scratch);
     kernels.resolve(right, y, scratch);
-    kernels.decode(left, depth, parallax);
+    for (int x = 0; x < right.source_width; ++x) parallax[x] = 0.0f - parallax[x];
     pad_parallax_row(left, parallax);
     search_left(left, scratch);
     kernels.resolve(left, y, scratch);

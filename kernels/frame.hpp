@@ -103,9 +103,11 @@ inline float clean_parallax(const Frame& f, float p) noexcept {
   if (key > f.limit) return f.s * f.limit;
   return p;
 }
+// + 0: a zero parallax is +0, never -0, so that a pair's left eye (the mirror model) can take the
+// right eye's row as 0 - p bit for bit (run_pair_rows); no output depends on the sign of a zero.
 template <class Fma>
 inline float decode_parallax(const Frame& f, float depth) noexcept {
-  return clean_parallax(f, raw_parallax<Fma>(f, depth));
+  return clean_parallax(f, raw_parallax<Fma>(f, depth)) + 0.0f;
 }
 
 // g = s ((t' - x) - P(x)): > 0 while the ray is in front of the surface (BEHAVIOUR.md).

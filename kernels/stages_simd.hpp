@@ -23,7 +23,7 @@ void simd_decode(const Frame& f, const float* depth, float* parallax) {
     const F key = s * p;
     p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
     p = xsimd::select(key > limit, near_bound, p);
-    p.store_unaligned(parallax + i);
+    (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
   }
   decode_parallax_columns<Fma>(f, depth, parallax, i, f.source_width);
 }

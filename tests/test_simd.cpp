@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "kernels/dispatch.hpp"
+#include "kernels/frame_rows.hpp"
 #include "reproject/reproject.hpp"
 #include "support/arch_report.hpp"
 
@@ -195,6 +196,53 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
 INSTANTIATE_TEST_SUITE_P(EveryArch, SimdMatchesScalar,
                          ::testing::Values(Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512),
                          [](const ::testing::TestParamInfo<Arch>& info) { return std::string(to_string(info.param)); });
+
+// reproject_pair decodes each row once, for the right eye, and gives the left eye (the mirror
+// model) 0 - p: that must be the left eye's own decode bit for bit, zeros and clamps included,
+// on every arch, for both decoder shapes and awkward models (a = +-0, huge b).
+TEST(PairDecode, LeftEyeIsTheNegatedRightEyeBitForBit) {
+  const float specials[] = {0.0f, -0.0f, 1.0f, 0.5f, 1e-30f, -1.0f, 1e30f, std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::denorm_min(), 0.999999f, 3.0e-8f};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> depth;
+  for (float v : specials) depth.push_back(v);
+  while (depth.size() < 200) depth.push_back(unit(rng) < 0.1f ? specials[rng() % 13] : unit(rng) * 2.0f);
+  const int width = static_cast<int>(depth.size());
+  std::vector<float> color(depth.size(), 0.5f), out(depth.size());
+  long compared = 0;
+  for (const DepthDecoder& decoder : {DepthDecoder::from_near_far(DepthEncoding::standard, 1.0, 20.0), DepthDecoder::linear(),
+                                      DepthDecoder::from_near_far(DepthEncoding::reversed, 0.1, 100.0)}) {
+    for (const ParallaxModel right : {ParallaxModel{28.8f, -100.8f}, ParallaxModel{0.0f, -3.0f}, ParallaxModel{-0.0f, -1.0f},
+                                      ParallaxModel{5.0f, -1e30f}, ParallaxModel{-12.0f, 40.0f}}) {
+      const ParallaxModel left{-right.a, -right.b};
+      SourceView source;
+      source.depth = FloatPlane{depth.data(), width, 1, width};
+      source.color = ColorView::planar({FloatPlane{color.data(), width, 1, width}});
+      TargetView target;
+      target.color = MutableColorView::planar({MutableFloatPlane{out.data(), width, 1, width}});
+      for (int a = 0; a < kArchCount; ++a) {
+        if (!arch_supported(static_cast<Arch>(a))) continue;
+        const detail::KernelTable& kernels = *detail::compiled_kernels(static_cast<Arch>(a));
+        const detail::Frame fr = detail::plan_frame(source, decoder, right, Options(), target);
+        const detail::Frame fl = detail::plan_frame(source, decoder, left, Options(), target);
+        std::vector<float> pr(depth.size()), pl(depth.size());
+        kernels.decode(fr, depth.data(), pr.data());
+        kernels.decode(fl, depth.data(), pl.data());
+        for (int i = 0; i < width; ++i) {
+          const float negated = 0.0f - pr[static_cast<std::size_t>(i)];
+          ++compared;
+          ASSERT_EQ(std::memcmp(&negated, &pl[static_cast<std::size_t>(i)], sizeof(float)), 0)
+              << to_string(static_cast<Arch>(a)) << " column " << i << " depth " << depth[static_cast<std::size_t>(i)]
+              << ": left " << pl[static_cast<std::size_t>(i)] << ", 0 - right " << negated << " (a " << right.a
+              << ", b " << right.b << ")";
+        }
+      }
+    }
+  }
+  std::printf("pair decode: %ld columns compared, left == 0 - right everywhere\n", compared);
+}
 
 // The log line that says which instruction sets the every-arch tests really executed here (each
 // skipped one also says so in its own test). .ci/run prints it.
