@@ -305,9 +305,10 @@ def draw_chart(r, present, cpu_model, png_path):
         ax.grid(axis="y", alpha=0.3)
     axes[0].set_ylabel("Mpix/s (1920x1080, planar RGBA; higher is better)")
     axes[0].set_ylim(0, top * 1.12)
-    axes[-1].legend(title="instruction set", fontsize=8, loc="upper left")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, title="instruction set", fontsize=8, loc="lower center", ncol=len(labels))
     fig.suptitle("reproject: speed per method and instruction set — %s" % cpu_model, fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     fig.savefig(png_path, dpi=110)
     plt.close(fig)
     return True
@@ -704,6 +705,15 @@ def write_page(data, json_path, doc_path):
         if g and f:
             w("* march16 (%s) reaches %.1f Mpix/s on one grey plane in cache and %.1f Mpix/s on 1080p RGBA from "
               "memory: %.1f× apart, for 2.4× the bytes per pixel." % (grey_best, g, f, g / f))
+    largest = max((c.get("size", 0) for c in (context.get("caches") or [])), default=0)
+    if largest:
+        fits = [s_ for s_ in SIZES if 41 * int(s_.split("x")[0]) * int(s_.split("x")[1]) <= largest]
+        w("* The largest cache here is %d MiB; one eye's working set (41 B/px) is %s MB at 720p / 1080p / 4K, so %s. "
+          "Where a frame stays in it, \"roofline\" is that cache's bandwidth rather than DRAM's; on a shared "
+          "machine (a VM whose host's other tenants use the same cache) a large working set may not stay, which "
+          "shows as a step in Mpix/s between sizes in the resolution table." % (
+              largest // (1 << 20), " / ".join("%.0f" % (41e-6 * int(s_.split("x")[0]) * int(s_.split("x")[1])) for s_ in SIZES),
+              ("the %s frames fit in it" % " and ".join(fits)) if fits else "no frame fits in it"))
     if r.errors:
         w("* Benchmarks that reported an error: " + "; ".join("`%s`: %s" % kv for kv in sorted(r.errors.items())))
     w("")
