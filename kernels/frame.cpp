@@ -147,6 +147,12 @@ void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, i
   }
 }
 
+bool mirrored_eyes(const Frame& left, const Frame& right) {
+  // b = +-0 (no stereo) gives both eyes s = -1: their keys are then not equal, and the left
+  // eye's clamps are not the mirror of the right's.
+  return left.s == -right.s;
+}
+
 void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& kernels, RowScratch& scratch,
                    int row_begin, int row_end) {
   // Column 0 at the same place for both eyes: prepare_scratch sized the storage for the widest
@@ -165,7 +171,11 @@ void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& ker
     pad_parallax_row(right, parallax);
     search_right(right, scratch);
     kernels.resolve(right, y, scratch);
-    for (int x = 0; x < right.source_width; ++x) parallax[x] = 0.0f - parallax[x];
+    if (mirrored_eyes(left, right)) {
+      for (int x = 0; x < right.source_width; ++x) parallax[x] = 0.0f - parallax[x];
+    } else {
+      kernels.decode(left, right.source.depth.row(y), parallax);
+    }
     pad_parallax_row(left, parallax);
     search_left(left, scratch);
     kernels.resolve(left, y, scratch);

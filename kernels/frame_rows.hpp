@@ -44,8 +44,11 @@ void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, i
 void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& kernels, RowScratch& scratch,
                    int row_begin, int row_end);
 
-// A pair's eyes have the same nearest key: eye k's key is s_k * p_k and both signs flip from one
-// eye to the other, so the right eye's near pass (nearest_key_in_rows) serves both.
+// Whether a pair's eyes are mirrored in the plan too: s flips from one eye to the other (b != 0).
+// Then they have the same nearest key (eye k's key is s_k * p_k and both signs flip), so the
+// right eye's near pass (nearest_key_in_rows) serves both, and the left eye's parallax row is the
+// right eye's negated. With b = +-0 each eye does its own.
+bool mirrored_eyes(const Frame& left, const Frame& right);
 
 }  // namespace detail
 }  // namespace reproject

@@ -258,6 +258,7 @@ struct RowPhase {
   const KernelTable* kernels = nullptr;
   const Frame* frames = nullptr;
   bool pair = false;
+  int near_frame = 0;  // the frame whose near pass runs (the right eye's serves a mirrored pair)
   int bands = 1;
   bool near_pass = false;  // true: nearest[i] = band i's nearest key; false: run band i's rows
   float* nearest = nullptr;
@@ -266,7 +267,7 @@ struct RowPhase {
 };
 
 void run_band(const RowPhase& phase, int band, RowScratch& scratch) {
-  const Frame& f = phase.frames[phase.pair ? 1 : 0];
+  const Frame& f = phase.frames[phase.near_pass ? phase.near_frame : (phase.pair ? 1 : 0)];
   const int begin = static_cast<int>(static_cast<long long>(f.height) * band / phase.bands);
   const int end = static_cast<int>(static_cast<long long>(f.height) * (band + 1) / phase.bands);
   if (phase.near_pass)
@@ -352,13 +353,21 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
   phase.slots = set.slots.data();
   phase.slot_count = slot_count;
   if (detail::near_pass_needed(frames[0])) {
+    // In band order from key_far, as the sequential pass over the whole frame does. A mirrored
+    // pair's eyes share the key (frame_rows.hpp): one pass, the right eye's.
+    const bool shared = frame_count == 2 && detail::mirrored_eyes(frames[0], frames[1]);
     phase.near_pass = true;
-    run_phase(phase, tasks, pool, slot_count, jobs);
-    // In band order from key_far, as the sequential pass over the whole frame does; a pair's
-    // eyes share the key (frame_rows.hpp).
-    float key = frames[frame_count - 1].key_far;
-    for (int b = 0; b < bands; ++b) key = std::max(key, nearest[b]);
-    for (int k = 0; k < frame_count; ++k) detail::set_near_key(frames[k], key);
+    for (int k = frame_count - 1; k >= 0; --k) {
+      phase.near_frame = k;
+      run_phase(phase, tasks, pool, slot_count, jobs);
+      float key = frames[k].key_far;
+      for (int b = 0; b < bands; ++b) key = std::max(key, nearest[b]);
+      detail::set_near_key(frames[k], key);
+      if (shared) {
+        detail::set_near_key(frames[0], key);
+        break;
+      }
+    }
     phase.near_pass = false;
   }
   run_phase(phase, tasks, pool, slot_count, jobs);

@@ -216,6 +216,8 @@ TEST(PairDecode, LeftEyeIsTheNegatedRightEyeBitForBit) {
                                       DepthDecoder::from_near_far(DepthEncoding::reversed, 0.1, 100.0)}) {
     for (const ParallaxModel right : {ParallaxModel{28.8f, -100.8f}, ParallaxModel{0.0f, -3.0f}, ParallaxModel{-0.0f, -1.0f},
                                       ParallaxModel{5.0f, -1e30f}, ParallaxModel{-12.0f, 40.0f}}) {
+      // (b = +-0 is not mirrored in the plan: both eyes get s = -1, and each decodes itself;
+      // Threads and fuzz_reproject compare such pairs with single calls.)
       const ParallaxModel left{-right.a, -right.b};
       SourceView source;
       source.depth = FloatPlane{depth.data(), width, 1, width};
@@ -242,6 +244,48 @@ TEST(PairDecode, LeftEyeIsTheNegatedRightEyeBitForBit) {
     }
   }
   std::printf("pair decode: %ld columns compared, left == 0 - right everywhere\n", compared);
+}
+
+// b = +-0 (no stereo) is the one model whose mirror is not mirrored in the plan (both eyes get
+// s = -1): reproject_pair must still equal two single calls there (fuzz_reproject found the
+// shared near key wrong for a = 2^-149, b = 0, scanline, depth 0).
+TEST(PairDecode, NoStereoPairEqualsTwoSingleCalls) {
+  const int width = 37;
+  std::vector<float> depth(width), color(4 * width);
+  for (int x = 0; x < width; ++x) depth[x] = x % 5 == 0 ? 0.0f : 0.05f * static_cast<float>(x % 7);
+  for (int i = 0; i < 4 * width; ++i) color[i] = static_cast<float>(i % 17) / 16.0f;
+  long compared = 0;
+  for (const DepthDecoder& decoder : {DepthDecoder::linear(), DepthDecoder::from_near_far(DepthEncoding::standard, 1.0, 20.0)}) {
+    for (const ParallaxModel model : {ParallaxModel{std::numeric_limits<float>::denorm_min(), 0.0f}, ParallaxModel{5.0f, -0.0f},
+                                      ParallaxModel{-3.0f, 0.0f}}) {
+      for (int m = 0; m < kMethodCount; ++m) {
+        for (bool fixed_near : {false, true}) {
+          Options options;
+          options.method = static_cast<Method>(m);
+          if (fixed_near) options.max_negative_parallax = 2.0f;
+          SourceView source;
+          source.depth = FloatPlane{depth.data(), width, 1, width};
+          source.color = ColorView::rgba(color.data(), width, 1, 4 * width);
+          std::vector<float> pair_left(4 * width, -7.0f), pair_right(4 * width, -7.0f), left(4 * width, -7.0f),
+              right(4 * width, -7.0f), xs[4];
+          for (std::vector<float>& x : xs) x.assign(width, -7.0f);
+          auto target = [&](std::vector<float>& c, std::vector<float>& x) {
+            TargetView t;
+            t.color = MutableColorView::rgba(c.data(), width, 1, 4 * width);
+            t.source_x = MutableFloatPlane{x.data(), width, 1, width};
+            return t;
+          };
+          ASSERT_TRUE(reproject_pair(source, decoder, model, options, target(pair_left, xs[0]), target(pair_right, xs[1])).ok());
+          ASSERT_TRUE(reproject(source, decoder, ParallaxModel{-model.a, -model.b}, options, target(left, xs[2])).ok());
+          ASSERT_TRUE(reproject(source, decoder, model, options, target(right, xs[3])).ok());
+          EXPECT_TRUE(same_bits(pair_left, left) && same_bits(xs[0], xs[2])) << "left eye, method " << m << " a " << model.a;
+          EXPECT_TRUE(same_bits(pair_right, right) && same_bits(xs[1], xs[3])) << "right eye, method " << m << " a " << model.a;
+          ++compared;
+        }
+      }
+    }
+  }
+  std::printf("no-stereo pairs: %ld compared with two single calls\n", compared);
 }
 
 // The log line that says which instruction sets the every-arch tests really executed here (each
