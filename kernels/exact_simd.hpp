@@ -35,6 +35,16 @@ inline float exact_x_from_owner(const Frame& f, const float* parallax, int t, fl
   return owner + segment_frac(f, t, j, p0, 1.0f + (parallax[j + 1] - p0));
 }
 
+// segment_frac across the lanes: `target` is t + guard (t' as a float, exact), `j` the segment.
+template <class Arch>
+xsimd::batch<float, Arch> segment_frac_v(const xsimd::batch<float, Arch>& target, const xsimd::batch<float, Arch>& j,
+                                         const xsimd::batch<float, Arch>& p0, const xsimd::batch<float, Arch>& length) {
+  using F = xsimd::batch<float, Arch>;
+  const F zero(0.0f), one(1.0f);
+  const F ratio = (target - j - p0) / length;
+  return xsimd::select(ratio < zero, zero, xsimd::select(one < ratio, one, ratio));  // std::clamp
+}
+
 // Pass 1 with clipping: the sweep of sweep_row, painting codes with masked stores. `margin` is
 // 2^-19 times the row's largest |p| (exact_may_clip): a segment whose nearer endpoint's key plus
 // it stays below key_near is nowhere nearer than the limit, wherever the scalar sweep
@@ -50,20 +60,17 @@ void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, f
   using F = typename Lanes<Arch>::F;
   using B = typename Lanes<Arch>::B;
   constexpr int L = Lanes<Arch>::size;
-  const int last = f.source_width - 1;
-  const int width = f.target_width;
-  for (int t = 0; t < width; t += L) F(kFarDefault).store_unaligned(owner + t);
+  for (int t = 0; t < f.target_width; t += L) F(kFarDefault).store_unaligned(owner + t);
   // Code `code` onto targets [begin, end).
   auto paint = [&](float code, int begin, int end) {
     const F value(code);
     for (int t = begin; t < end; t += L) store_first_lanes<Arch>(value, owner + t, end - t);
   };
-  auto paint_extension = [&](int column, float code, int begin, int end) {
+  auto paint_extension = [&](int column, int begin, int end) {
     if (f.s * parallax[column] > f.key_near) return;  // the whole extension is too near
-    paint(code, begin, end);
+    paint(column == 0 ? kLeftExtension : kRightExtension, begin, end);
   };
   const F lanes = lane_offsets<Arch>(), s(f.s), key_near(f.key_near), guard(static_cast<float>(f.guard));
-  const F zero(0.0f), one(1.0f);
   auto paint_segment = [&](int j, int begin, int end) {
     if (begin >= end) return;  // a fold
     const float p0 = parallax[j];
@@ -71,77 +78,47 @@ void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, f
     const float k0 = f.s * p0, k1 = f.s * p1;
     if (std::max(k0, k1) + margin < f.key_near) return paint(static_cast<float>(j), begin, end);
     if (std::min(k0, k1) - margin > f.key_near) return;  // nearer everywhere: every pixel skipped
-    // segment_frac and the scalar sweep's test, per lane; the lanes it skips keep their code.
+    // The scalar sweep's test, per lane; the lanes it skips keep their code.
     const F p0_v(p0), dp(p1 - p0), length(1.0f + (p1 - p0)), j_v(static_cast<float>(j)), end_v(static_cast<float>(end));
     for (int t = begin; t < end; t += L) {
       const F target = F(static_cast<float>(t)) + lanes;  // exact: small integers
-      const F ratio = ((target + guard) - j_v - p0_v) / length;
-      const F frac = xsimd::select(ratio < zero, zero, xsimd::select(one < ratio, one, ratio));  // std::clamp
+      const F frac = segment_frac_v<Arch>(target + guard, j_v, p0_v, length);
       const B write = (target < end_v) & ~(s * vmadd<Fma>(frac, dp, p0_v) > key_near);
       xsimd::select(write, j_v, F::load_unaligned(owner + t)).store_unaligned(owner + t);
     }
   };
-  auto reach = [&](int column) {
-    return std::clamp(first_target_reached<Upwards>(column, parallax[column]) - f.guard, 0, width);
-  };
-  if constexpr (Upwards) {
-    int begin = reach(0);
-    paint_extension(0, kLeftExtension, 0, begin);
-    for (int j = 0; j < last; ++j) {
-      const int end = reach(j + 1);
-      paint_segment(j, begin, end);
-      begin = end;
-    }
-    paint_extension(last, kRightExtension, begin, width);
-  } else {
-    int end = reach(last);
-    paint_extension(last, kRightExtension, end, width);
-    for (int j = last - 1; j >= 0; --j) {
-      const int begin = reach(j);
-      paint_segment(j, begin, end);
-      end = begin;
-    }
-    paint_extension(0, kLeftExtension, 0, end);
-  }
+  sweep_in_order<Upwards>(f, parallax, paint_extension, paint_segment);
 }
 
-// Pass 1 without clipping: whole-vector stores (see above).
-template <class Arch>
+// Pass 1 without clipping: whole-vector stores (see above), each spilling past its span on the
+// far side of the sweep (above it upwards, below it downwards).
+template <class Arch, bool Upwards>
 void exact_paint(const Frame& f, const float* parallax, float* owner) {
   using F = typename Lanes<Arch>::F;
   constexpr int L = Lanes<Arch>::size;
-  const int last = f.source_width - 1;
-  const int width = f.target_width;
-  const F left_code(kLeftExtension), right_code(kRightExtension);
-  if (f.s < 0.0f) {  // columns upwards; spills land above a segment
-    auto reach = [&](int column) {
-      return std::clamp(first_target_reached<true>(column, parallax[column]) - f.guard, 0, width);
-    };
-    int begin = reach(0);
-    for (int t = 0; t < begin; t += L) left_code.store_unaligned(owner + t);
-    for (int j = 0; j < last; ++j) {
-      const int end = reach(j + 1);
-      const F code(static_cast<float>(j));
+  // Whole vectors from the sweep's near side of [begin, end); nothing when it is empty.
+  auto fill = [&](const F& code, int begin, int end) {
+    if constexpr (Upwards) {
+      for (int t = begin; t < end; t += L) code.store_unaligned(owner + t);
+    } else {
+      for (int t = end; t > begin; t -= L) code.store_unaligned(owner + t - L);
+    }
+  };
+  auto paint_extension = [&](int column, int begin, int end) {
+    fill(F(column == 0 ? kLeftExtension : kRightExtension), begin, end);
+  };
+  // Every segment, even an empty one (a fold), stores one vector at its near end.
+  auto paint_segment = [&](int j, int begin, int end) {
+    const F code(static_cast<float>(j));
+    if constexpr (Upwards) {
       code.store_unaligned(owner + begin);
-      for (int t = begin + L; t < end; t += L) code.store_unaligned(owner + t);  // a stretched segment
-      begin = end;
-    }
-    for (int t = begin; t < width; t += L) right_code.store_unaligned(owner + t);
-  } else {  // columns downwards; spills land below a segment
-    auto reach = [&](int column) {
-      return std::clamp(first_target_reached<false>(column, parallax[column]) - f.guard, 0, width);
-    };
-    int end = reach(last);
-    for (int t = width; t > end; t -= L) right_code.store_unaligned(owner + t - L);
-    for (int j = last - 1; j >= 0; --j) {
-      const int begin = reach(j);
-      const F code(static_cast<float>(j));
+      fill(code, begin + L, end);  // a stretched segment
+    } else {
       code.store_unaligned(owner + end - L);
-      for (int t = end - L; t > begin; t -= L) code.store_unaligned(owner + t - L);
-      end = begin;
+      fill(code, begin, end - L);
     }
-    for (int t = end; t > 0; t -= L) left_code.store_unaligned(owner + t - L);
-  }
+  };
+  sweep_in_order<Upwards>(f, parallax, paint_extension, paint_segment);
 }
 
 // The row's nearest key against the near limit (sweep_row's may_clip), with the vector max; and
@@ -184,7 +161,8 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
   float* owner = scratch.owner_storage.data() + kOwnerPad;
   float margin = 0.0f;
   const bool may_clip = exact_may_clip<Arch>(f, parallax, &margin);
-  if (!may_clip) exact_paint<Arch>(f, parallax, owner);
+  if (!may_clip && f.s < 0.0f) exact_paint<Arch, true>(f, parallax, owner);
+  else if (!may_clip) exact_paint<Arch, false>(f, parallax, owner);
   else if (f.s < 0.0f) exact_paint_clipping<Arch, Fma, true>(f, parallax, owner, margin);
   else exact_paint_clipping<Arch, Fma, false>(f, parallax, owner, margin);
 
@@ -201,9 +179,7 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
     const F target = (F(static_cast<float>(t)) + lanes) + guard;  // t + guard, as in the scalar sweep
     F p0, p1;
     ColumnFetch<Arch>(j, j + one, f.source_width).fetch(parallax, p0, p1);
-    const F length = one + (p1 - p0);
-    const F ratio = (target - j - p0) / length;
-    const F frac = xsimd::select(ratio < zero, zero, xsimd::select(one < ratio, one, ratio));  // std::clamp
+    const F frac = segment_frac_v<Arch>(target, j, p0, one + (p1 - p0));
     const F edge_parallax = xsimd::select(code == F(kLeftExtension), left_parallax,
                                           xsimd::select(code == F(kRightExtension), right_parallax, p_far));
     F x = xsimd::select(extension, target - edge_parallax, j + frac);

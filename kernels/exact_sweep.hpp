@@ -24,8 +24,39 @@ template <bool Upwards>
 inline int first_target_reached(int column, float p) {
   return column + static_cast<int>(Upwards ? std::ceil(p) : std::floor(p) + 1.0f);
 }
-inline int first_target_reached(const Frame& f, int column, float p) {
-  return f.s < 0.0f ? first_target_reached<true>(column, p) : first_target_reached<false>(column, p);
+
+// The sweep's order, written once for the scalar sweep and its SIMD twins: the near extension,
+// the segments towards the far side, the far extension (b < 0, `Upwards`: columns 0 -> last).
+// Each is handed its span as target pixels [begin, end): where a column's surface point first
+// reaches, clamped to [0, Wt], so the spans are already clipped to the row (clamping is monotone)
+// and each column's reach is computed once; a segment's span is empty for a fold-over (a back
+// face). extension(column, begin, end) is the edge column's; segment(j, begin, end) is [j, j+1]'s.
+template <bool Upwards, class Extension, class Segment>
+inline void sweep_in_order(const Frame& f, const float* parallax, const Extension& extension, const Segment& segment) {
+  const int last = f.source_width - 1;
+  const int width = f.target_width;
+  auto reach = [&](int column) {
+    return std::clamp(first_target_reached<Upwards>(column, parallax[column]) - f.guard, 0, width);
+  };
+  if constexpr (Upwards) {
+    int begin = reach(0);
+    extension(0, 0, begin);
+    for (int j = 0; j < last; ++j) {
+      const int end = reach(j + 1);
+      segment(j, begin, end);
+      begin = end;
+    }
+    extension(last, begin, width);
+  } else {
+    int end = reach(last);
+    extension(last, end, width);
+    for (int j = last - 1; j >= 0; --j) {
+      const int begin = reach(j);
+      segment(j, begin, end);
+      end = begin;
+    }
+    extension(0, 0, end);
+  }
 }
 
 // Source x of target pixel t painted by an edge extension whose surface has parallax p.
@@ -59,20 +90,12 @@ inline void sweep_row(const Frame& f, RowScratch& scratch) {
     for (int t = 0; t < f.target_width; ++t) xs[t] = static_cast<float>(t) + guard - f.p_far;
   }
 
-  // Where column j's surface point first reaches, as a target index clamped to [0, Wt]: the
-  // span a segment or an extension paints is then [reach(start), reach(end)), already clipped to
-  // the row (clamping is monotone), and each column's reach is computed once.
-  const int width = f.target_width;
-  auto reach = [&](int column) {
-    return std::clamp(first_target_reached(f, column, parallax[column]) - f.guard, 0, width);
-  };
   // An edge extension: beyond the row the surface keeps the edge column's parallax.
   auto paint_extension = [&](int column, int begin, int end) {
     const float p = parallax[column];
     if (may_clip && f.s * p > f.key_near) return;
     for (int t = begin; t < end; ++t) xs[t] = extension_x(f, t, p);
   };
-  // Segment [j, j+1] onto targets [begin, end); empty for a fold-over (a back face).
   auto paint_segment = [&](int j, int begin, int end) {
     const float p0 = parallax[j];
     const float p1 = parallax[j + 1];
@@ -83,26 +106,8 @@ inline void sweep_row(const Frame& f, RowScratch& scratch) {
       xs[t] = static_cast<float>(j) + frac;
     }
   };
-
-  if (f.s < 0.0f) {
-    int begin = reach(0);
-    paint_extension(0, 0, begin);
-    for (int j = 0; j < last; ++j) {
-      const int end = reach(j + 1);
-      paint_segment(j, begin, end);
-      begin = end;
-    }
-    paint_extension(last, begin, width);
-  } else {
-    int end = reach(last);
-    paint_extension(last, end, width);
-    for (int j = last - 1; j >= 0; --j) {
-      const int begin = reach(j);
-      paint_segment(j, begin, end);
-      end = begin;
-    }
-    paint_extension(0, 0, end);
-  }
+  if (f.s < 0.0f) sweep_in_order<true>(f, parallax, paint_extension, paint_segment);
+  else sweep_in_order<false>(f, parallax, paint_extension, paint_segment);
 
   for (int t = 0; t < f.target_width; ++t) scratch.clipped[t] = 0;
   if (may_clip) {

@@ -19,6 +19,14 @@ void pad_parallax_row(const Frame& f, float* parallax) {
   std::fill(parallax + f.source_width, parallax + f.source_width + f.pad_right, parallax[f.source_width - 1]);
 }
 
+// Row y of f once its parallax row (`parallax` = scratch.parallax, columns [0, Ws)) holds the
+// decode.
+void search_and_resolve(const Frame& f, const KernelTable& kernels, RowScratch& scratch, float* parallax, int y) {
+  pad_parallax_row(f, parallax);
+  kernels.search[static_cast<int>(f.method)](f, scratch);
+  kernels.resolve(f, y, scratch);
+}
+
 // Scratch for the calling thread, reused across rows and calls (the sequential make_frame() and
 // run_rows(); the threaded calls bring their own).
 RowScratch& thread_scratch(const Frame& f) {
@@ -136,14 +144,11 @@ Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
 }
 
 void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin, int row_end) {
-  scratch.parallax = scratch.parallax_storage.data() + f.pad_left;
   float* parallax = scratch.parallax_storage.data() + f.pad_left;
-  const SearchRow search = kernels.search[static_cast<int>(f.method)];
+  scratch.parallax = parallax;
   for (int y = row_begin; y < row_end; ++y) {
     kernels.decode(f, f.source.depth.row(y), parallax);
-    pad_parallax_row(f, parallax);
-    search(f, scratch);
-    kernels.resolve(f, y, scratch);
+    search_and_resolve(f, kernels, scratch, parallax, y);
   }
 }
 
@@ -159,26 +164,22 @@ void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& ker
   // padding on either side, and each eye's own padding is no wider.
   float* parallax = scratch.parallax_storage.data() + std::max(left.pad_left, right.pad_left);
   scratch.parallax = parallax;
-  const SearchRow search_left = kernels.search[static_cast<int>(left.method)];
-  const SearchRow search_right = kernels.search[static_cast<int>(right.method)];
+  const bool mirrored = mirrored_eyes(left, right);
   for (int y = row_begin; y < row_end; ++y) {
     // Each source row is read from memory once and decoded once: the left eye's model is the
     // right's mirror (-a, -b), so its decode is the negation of the right eye's, bit for bit
     // (the decode constants are exact negations, rounding is symmetric, both eyes' keys s * p are
     // equal, so the clamps pick the same branch; zeros are +0 on both sides, hence 0 - p). The
     // left eye's colour reads then hit the rows the right eye's resolve has just read.
-    kernels.decode(right, right.source.depth.row(y), parallax);
-    pad_parallax_row(right, parallax);
-    search_right(right, scratch);
-    kernels.resolve(right, y, scratch);
-    if (mirrored_eyes(left, right)) {
+    const float* depth = right.source.depth.row(y);
+    kernels.decode(right, depth, parallax);
+    search_and_resolve(right, kernels, scratch, parallax, y);
+    if (mirrored) {
       for (int x = 0; x < right.source_width; ++x) parallax[x] = 0.0f - parallax[x];
     } else {
-      kernels.decode(left, right.source.depth.row(y), parallax);
+      kernels.decode(left, depth, parallax);
     }
-    pad_parallax_row(left, parallax);
-    search_left(left, scratch);
-    kernels.resolve(left, y, scratch);
+    search_and_resolve(left, kernels, scratch, parallax, y);
   }
 }
 

@@ -140,18 +140,14 @@ constexpr bool kHasPermute =
 
 template <class Arch>
 float first_lane(const xsimd::batch<float, Arch>& v) {
-  if constexpr (sizeof(v) == 16) {
-    return _mm_cvtss_f32(v);
-#if defined(__AVX__)
-  } else if constexpr (sizeof(v) == 32) {
-    return _mm256_cvtss_f32(v);
-#endif
+  static_assert(kHasPermute<Arch>, "first_lane() serves the AVX2 and AVX-512 fetch plans");
 #if defined(__AVX512F__)
-  } else if constexpr (sizeof(v) == 64) {
+  if constexpr (sizeof(v) == 64) {
     return _mm512_cvtss_f32(v);
+  } else
 #endif
-  } else {
-    static_assert(sizeof(v) == 16, "first_lane(): an unknown width");
+  {
+    return _mm256_cvtss_f32(v);
   }
 }
 

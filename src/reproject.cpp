@@ -353,20 +353,20 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
   phase.slots = set.slots.data();
   phase.slot_count = slot_count;
   if (detail::near_pass_needed(frames[0])) {
-    // In band order from key_far, as the sequential pass over the whole frame does. A mirrored
-    // pair's eyes share the key (frame_rows.hpp): one pass, the right eye's.
-    const bool shared = frame_count == 2 && detail::mirrored_eyes(frames[0], frames[1]);
+    // Frame k's nearest key: its bands' keys reduced in band order from key_far, as the
+    // sequential pass over the whole frame does.
     phase.near_pass = true;
-    for (int k = frame_count - 1; k >= 0; --k) {
+    auto nearest_key_of = [&](int k) {
       phase.near_frame = k;
       run_phase(phase, tasks, pool, slot_count, jobs);
       float key = frames[k].key_far;
       for (int b = 0; b < bands; ++b) key = std::max(key, nearest[b]);
-      detail::set_near_key(frames[k], key);
-      if (shared) {
-        detail::set_near_key(frames[0], key);
-        break;
-      }
+      return key;
+    };
+    const float last_key = nearest_key_of(frame_count - 1);
+    detail::set_near_key(frames[frame_count - 1], last_key);
+    if (frame_count == 2) {  // a mirrored pair's eyes share the key (frame_rows.hpp)
+      detail::set_near_key(frames[0], detail::mirrored_eyes(frames[0], frames[1]) ? last_key : nearest_key_of(0));
     }
     phase.near_pass = false;
   }
