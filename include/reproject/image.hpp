@@ -5,6 +5,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
+#include <type_traits>
+
+#include "reproject/formats.hpp"
 
 namespace reproject {
 
@@ -27,13 +30,19 @@ enum class ColorLayout : std::uint8_t {
   interleaved_rgba,  // one plane, 4 floats per pixel (R, G, B, A); width counts pixels
 };
 
-// Colour as 1-4 planes or one interleaved RGBA plane. All planes have the same width and height;
-// each keeps its own stride.
+// Colour as 1-4 float planes, one interleaved float RGBA plane, or one plane of packed RGBA
+// pixels in an engine format (ColorFormat). All planes have the same width and height; each
+// keeps its own stride.
 template <class T>
 struct ColorViewT {
+  using Byte = typename std::conditional<std::is_const<T>::value, const std::uint8_t, std::uint8_t>::type;
+  using Pointer = typename std::conditional<std::is_const<T>::value, const void*, void*>::type;
+
   ColorLayout layout = ColorLayout::planar;
   int channels = 0;       // planar: 1..4 (number of planes used); interleaved_rgba: 4
-  PlaneView<T> plane[4];  // planar: plane[0..channels); interleaved_rgba: plane[0] only
+  PlaneView<T> plane[4];  // float32: planar: plane[0..channels); interleaved_rgba: plane[0] only
+  ColorFormat format = ColorFormat::float32;
+  PlaneView<Byte> pixels;  // the packed formats (interleaved_rgba): the pixels' bytes, stride in bytes
 
   static ColorViewT planar(std::initializer_list<PlaneView<T>> planes) noexcept {
     ColorViewT view;
@@ -50,8 +59,17 @@ struct ColorViewT {
     view.plane[0] = PlaneView<T>{data, width, height, stride};
     return view;
   }
-  int width() const noexcept { return channels > 0 ? plane[0].width : 0; }
-  int height() const noexcept { return channels > 0 ? plane[0].height : 0; }
+  // RGBA pixels in a packed format (rgba8, rgba8_srgb, rgba16f): row y at data + y * stride_bytes.
+  static ColorViewT packed(ColorFormat format, Pointer data, int width, int height, std::ptrdiff_t stride_bytes) noexcept {
+    ColorViewT view;
+    view.layout = ColorLayout::interleaved_rgba;
+    view.channels = 4;
+    view.format = format;
+    view.pixels = PlaneView<Byte>{static_cast<Byte*>(data), width, height, stride_bytes};
+    return view;
+  }
+  int width() const noexcept { return channels > 0 ? (format == ColorFormat::float32 ? plane[0].width : pixels.width) : 0; }
+  int height() const noexcept { return channels > 0 ? (format == ColorFormat::float32 ? plane[0].height : pixels.height) : 0; }
 };
 
 using ColorView = ColorViewT<const float>;

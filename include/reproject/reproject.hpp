@@ -94,21 +94,25 @@ struct ParallelFor {
 };
 
 // The view being reprojected. Depth and colour have the same size: the target's width plus
-// 2 * guard columns, and its height.
+// 2 * guard columns, and its height. Depth is a float plane (`depth`) or a depth buffer in any
+// DepthFormat (`depth_buffer`): set exactly one of them.
 struct SourceView {
   ColorView color;
   FloatPlane depth;
+  DepthBuffer depth_buffer;
 };
 
-// Outputs. Colour is required (same channel count and layout as the source); depth (same
-// encoding as the source), status (PixelStatus bytes) and source_x (x* in source columns, i.e.
-// counted from the source's first column, guard band included) are written when their data
-// pointer is non-null. No output may overlap an input or another output.
+// Outputs. Colour is required (same channel count, layout and format as the source); depth (same
+// encoding and format as the source: `depth` for float depth, `depth_buffer` for any format),
+// status (PixelStatus bytes) and source_x (x* in source columns, i.e. counted from the source's
+// first column, guard band included) are written when their data pointer is non-null. No output
+// may overlap an input or another output.
 struct TargetView {
   MutableColorView color;
   MutableFloatPlane depth;
   BytePlane status;
   MutableFloatPlane source_x;
+  MutableDepthBuffer depth_buffer;
 };
 
 // Reprojects `source` into `target`. Validates everything once, then runs the method over every
