@@ -34,9 +34,13 @@ int main() {
   Image right_color(width, height, 3);
   Image right_depth(width, height);
   std::vector<std::uint8_t> status(static_cast<std::size_t>(width) * height);
-  const SourceView source{color.color(), depth.plane()};
-  const TargetView target{right_color.mutable_color(), right_depth.mutable_plane(),
-                          BytePlane{status.data(), width, height, width}, MutableFloatPlane{}};
+  SourceView source;
+  source.color = color.color();
+  source.depth = depth.plane();
+  TargetView target;
+  target.color = right_color.mutable_color();
+  target.depth = right_depth.mutable_plane();
+  target.status = BytePlane{status.data(), width, height, width};
 
   const Status result = reproject::reproject(source, decoder, model, options, target);
   if (!result) {

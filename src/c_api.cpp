@@ -52,11 +52,18 @@ View color_view(const CColor& c) noexcept {
 }
 
 SourceView view(const reproject_source& s) noexcept {
-  return SourceView{color_view<reproject_color, ColorView>(s.color), view(s.depth)};
+  SourceView v;
+  v.color = color_view<reproject_color, ColorView>(s.color);
+  v.depth = view(s.depth);
+  return v;
 }
 TargetView view(const reproject_target& t) noexcept {
-  return TargetView{color_view<reproject_mut_color, MutableColorView>(t.color), view(t.depth), view(t.status),
-                    view(t.source_x)};
+  TargetView v;
+  v.color = color_view<reproject_mut_color, MutableColorView>(t.color);
+  v.depth = view(t.depth);
+  v.status = view(t.status);
+  v.source_x = view(t.source_x);
+  return v;
 }
 
 DepthDecoder decoder_of(const reproject_decoder& d) noexcept {
