@@ -117,8 +117,9 @@ inline float depth_value(const Frame& f, const std::uint8_t* row, int i) noexcep
     case DepthFormat::unorm24_s8: return unorm_value(load_u32(row + 4 * static_cast<std::ptrdiff_t>(i)) & 0xffffffu, kUnorm24Max);
     case DepthFormat::s8_unorm24: return unorm_value(load_u32(row + 4 * static_cast<std::ptrdiff_t>(i)) >> 8, kUnorm24Max);
     case DepthFormat::rgba8_packed_linear: {
+      // Never fused, on any arch: the stored value is a function of the bytes alone.
       const float v = unorm_value(packed_code(load_u32(row + 4 * static_cast<std::ptrdiff_t>(i))), kPackedMax);
-      return madd<Fma>(v, f.packed_range, f.packed_near);
+      return v * f.packed_range + f.packed_near;
     }
     case DepthFormat::float32: break;
   }

@@ -79,7 +79,7 @@ xsimd::batch<float, Arch> load_depth_values(const Frame& f, const std::uint8_t* 
     if constexpr (Format == DepthFormat::s8_unorm24) return xsimd::to_float((word >> 8) & I(0xffffff)) / F(kUnorm24Max);
     if constexpr (Format == DepthFormat::rgba8_packed_linear) {
       const I code = (word & I(0xff)) * I(65025) + ((word >> 8) & I(0xff)) * I(255) + ((word >> 16) & I(0xff));
-      return vmadd<Fma>(xsimd::to_float(code) / F(kPackedMax), F(f.packed_range), F(f.packed_near));
+      return (xsimd::to_float(code) / F(kPackedMax)) * F(f.packed_range) + F(f.packed_near);  // never fused
     }
   }
 }

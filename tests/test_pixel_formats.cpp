@@ -228,7 +228,7 @@ Frames make_frames(std::mt19937& rng, int width, int height, const FormatCase& f
             formats::pack_linear_value(v, word);
             word[3] = static_cast<std::uint8_t>(stencil);
             const float decoded = formats::packed_linear_value(word);
-            d = std::fma(decoded, fr.packed_far - fr.packed_near, fr.packed_near);
+            d = decoded * (fr.packed_far - fr.packed_near) + fr.packed_near;  // (-ffp-contract=off)
             break;
           }
         }
