@@ -105,7 +105,7 @@ IntLanes<Arch> unorm_code_v(const xsimd::batch<float, Arch>& d, float max) {
 
 // The words that store depth d (scalar twin: depth_word); `kept` as there.
 template <class Arch>
-IntLanes<Arch> depth_words(const Frame& f, const xsimd::batch<float, Arch>& d, const IntLanes<Arch>& kept) {
+__attribute__((always_inline)) inline IntLanes<Arch> depth_words(const Frame& f, const xsimd::batch<float, Arch>& d, const IntLanes<Arch>& kept) {
   using F = typename Lanes<Arch>::F;
   using I = IntLanes<Arch>;
   switch (f.depth.format) {
@@ -144,18 +144,21 @@ void store_u16(const IntLanes<Arch>& codes, const xsimd::batch_bool<float, Arch>
 }
 
 // rgba8 / rgba8_srgb: L pixels' words blended channel by channel (scalar twin: ColorRow::write).
-template <class Arch, class Fma>
-IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0, const IntLanes<Arch>& w1,
-                           const xsimd::batch<float, Arch>& frac) {
+// The rgba8 blend of two bytes lies between them (frac is in [0, 1] and both ends are floats),
+// so the scalar reference's clamp never acts and the rounding is the conversion instruction's
+// (round to nearest even, the default mode the scalar (x + 2^23) - 2^23 relies on too).
+template <class Arch, class Fma, bool Srgb>
+__attribute__((always_inline)) inline IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0,
+                                                                 const IntLanes<Arch>& w1,
+                                                                 const xsimd::batch<float, Arch>& frac) {
   using F = typename Lanes<Arch>::F;
   using I = IntLanes<Arch>;
-  const bool srgb = f.color_format == ColorFormat::rgba8_srgb;
   I out(0);
   for (int c = 0; c < 4; ++c) {
     const I b0 = (w0 >> (8 * c)) & I(0xff);
     const I b1 = (w1 >> (8 * c)) & I(0xff);
     I byte;
-    if (srgb && c < 3) {
+    if (Srgb && c < 3) {
       const F l0 = gather<Arch>(f.srgb->to_linear, b0);
       const F l1 = gather<Arch>(f.srgb->to_linear, b1);
       const F linear = vmadd<Fma>(frac, l1 - l0, l0);
@@ -169,7 +172,7 @@ IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0, const IntLa
       byte = first + xsimd::to_int(xsimd::select(l >= next, F(1.0f), F(0.0f)));
     } else {
       const F c0 = xsimd::to_float(b0);
-      byte = xsimd::to_int(round_even_v<Arch>(clamp_code_v<Arch>(vmadd<Fma>(frac, xsimd::to_float(b1) - c0, c0), 255.0f)));
+      byte = xsimd::nearbyint_as_int(vmadd<Fma>(frac, xsimd::to_float(b1) - c0, c0));
     }
     out = out | (byte << (8 * c));
   }

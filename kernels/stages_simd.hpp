@@ -207,8 +207,14 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
         for (int c = 0; c < planes; ++c) {
           F c0, c1;
           fetch(reinterpret_cast<const float*>(source[c]), c0, c1);
-          const F value = word_pixels ? float_bits<Arch>(blend_rgba8<Arch, Fma>(f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac))
-                                      : vmadd<Fma>(frac, c1 - c0, c0);
+          F value;
+          if (format == ColorFormat::rgba8) {
+            value = float_bits<Arch>(blend_rgba8<Arch, Fma, false>(f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac));
+          } else if (format == ColorFormat::rgba8_srgb) {
+            value = float_bits<Arch>(blend_rgba8<Arch, Fma, true>(f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac));
+          } else {
+            value = vmadd<Fma>(frac, c1 - c0, c0);
+          }
           store(reinterpret_cast<float*>(target[c] + out_byte), black_edges ? xsimd::select(outside, zero, value) : value);
         }
       }
