@@ -64,6 +64,50 @@ IntLanes<Arch> load_u16(const std::uint8_t* p) {
   }
 }
 
+// u / (2^Bits - 1) correctly rounded (scalar twin: unorm_value, a division). Where the table has
+// an FMA, without the division: with x = u 2^-Bits (exact), fma(x, c, x) for c the float just
+// above 2^-Bits is the correctly rounded quotient for every 16- and 24-bit code (u / (2^b - 1) =
+// x (1 + 2^-b + 2^-2b + ...); checked exhaustively by PixelFormats.UnormDecodeEveryCodeEveryArch).
+template <class Arch, class Fma, int Bits>
+xsimd::batch<float, Arch> unorm_values(const IntLanes<Arch>& code) {
+  using F = typename Lanes<Arch>::F;
+  constexpr float kMax = Bits == 16 ? kUnorm16Max : kUnorm24Max;
+  if constexpr (std::is_same<Fma, Fused>::value) {
+    constexpr float kUnit = Bits == 16 ? 0x1p-16f : 0x1p-24f;
+    constexpr float kAbove = Bits == 16 ? 0x1.000002p-16f : 0x1.000002p-24f;
+    const F x = xsimd::to_float(code) * F(kUnit);
+    return vmadd<Fma>(x, F(kAbove), x);
+  } else {
+    return xsimd::to_float(code) / F(kMax);
+  }
+}
+
+// The stored values d of L depth words of a 32-bit format (scalar twin: depth_value).
+template <class Arch, class Fma, DepthFormat Format>
+xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<Arch>& word) {
+  using F = typename Lanes<Arch>::F;
+  using I = IntLanes<Arch>;
+  if constexpr (Format == DepthFormat::float32) return float_bits<Arch>(word);
+  if constexpr (Format == DepthFormat::unorm24_s8) return unorm_values<Arch, Fma, 24>(word & I(0xffffff));
+  if constexpr (Format == DepthFormat::s8_unorm24) return unorm_values<Arch, Fma, 24>((word >> 8) & I(0xffffff));
+  if constexpr (Format == DepthFormat::rgba8_packed_linear) {
+    const I code = (word & I(0xff)) * I(65025) + ((word >> 8) & I(0xff)) * I(255) + ((word >> 16) & I(0xff));
+    return (xsimd::to_float(code) / F(kPackedMax)) * F(f.packed_range) + F(f.packed_near);  // never fused
+  }
+  if constexpr (Format == DepthFormat::unorm16) return F(0.0f);  // 16-bit: not words (load_depth_values)
+}
+template <class Arch, class Fma>
+xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<Arch>& word) {
+  switch (f.depth.format) {
+    case DepthFormat::unorm24_s8: return depth_values_of_words<Arch, Fma, DepthFormat::unorm24_s8>(f, word);
+    case DepthFormat::s8_unorm24: return depth_values_of_words<Arch, Fma, DepthFormat::s8_unorm24>(f, word);
+    case DepthFormat::rgba8_packed_linear: return depth_values_of_words<Arch, Fma, DepthFormat::rgba8_packed_linear>(f, word);
+    case DepthFormat::unorm16:
+    case DepthFormat::float32: break;
+  }
+  return float_bits<Arch>(word);
+}
+
 // The stored values d of columns [i, i + L) of a depth row (scalar twin: depth_value).
 template <class Arch, class Fma, DepthFormat Format>
 xsimd::batch<float, Arch> load_depth_values(const Frame& f, const std::uint8_t* row, int i) {
@@ -72,15 +116,10 @@ xsimd::batch<float, Arch> load_depth_values(const Frame& f, const std::uint8_t* 
   if constexpr (Format == DepthFormat::float32) {
     return F::load_unaligned(reinterpret_cast<const float*>(row) + i);
   } else if constexpr (Format == DepthFormat::unorm16) {
-    return xsimd::to_float(load_u16<Arch>(row + 2 * static_cast<std::ptrdiff_t>(i))) / F(kUnorm16Max);
+    return unorm_values<Arch, Fma, 16>(load_u16<Arch>(row + 2 * static_cast<std::ptrdiff_t>(i)));
   } else {
     const I word = I::load_unaligned(reinterpret_cast<const std::int32_t*>(row + 4 * static_cast<std::ptrdiff_t>(i)));
-    if constexpr (Format == DepthFormat::unorm24_s8) return xsimd::to_float(word & I(0xffffff)) / F(kUnorm24Max);
-    if constexpr (Format == DepthFormat::s8_unorm24) return xsimd::to_float((word >> 8) & I(0xffffff)) / F(kUnorm24Max);
-    if constexpr (Format == DepthFormat::rgba8_packed_linear) {
-      const I code = (word & I(0xff)) * I(65025) + ((word >> 8) & I(0xff)) * I(255) + ((word >> 16) & I(0xff));
-      return (xsimd::to_float(code) / F(kPackedMax)) * F(f.packed_range) + F(f.packed_near);  // never fused
-    }
+    return depth_values_of_words<Arch, Fma, Format>(f, word);
   }
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "kernels/dispatch.hpp"
+#include "kernels/frame_rows.hpp"
 #include "reproject/reproject.hpp"
 
 namespace reproject {
@@ -89,6 +90,50 @@ TEST(PixelFormats, Unorm24DenseSweep) {
   }
   std::printf("unorm24: %ld codes, %ld round trips one code off\n", checked, off);
   EXPECT_LT(off, checked / 100);
+}
+
+// The kernels' own depth loads (the SIMD decode computes u / (2^b - 1) without a division where
+// it has an FMA): every D16 and D24 code, through each arch's decode, gives the correctly
+// rounded quotient (the decode writes the stored values it read for the resolve).
+TEST(PixelFormats, UnormDecodeEveryCodeEveryArch) {
+  const int width = 65536;
+  std::vector<std::uint8_t> row(static_cast<std::size_t>(width) * 4);
+  std::vector<float> parallax(width), stored(width), color(width);
+  long checked = 0;
+  for (DepthFormat format : {DepthFormat::unorm16, DepthFormat::unorm24_s8, DepthFormat::s8_unorm24}) {
+    SourceView source;
+    source.depth_buffer = DepthBuffer::of(format, row.data(), width, 1, width * 4);
+    source.color = ColorView::planar({FloatPlane{color.data(), width, 1, width}});
+    TargetView target;
+    const DepthDecoder decoder = DepthDecoder::from_near_far(DepthEncoding::standard, 1.0, 100.0);
+    const detail::Frame f = detail::plan_frame(source, decoder, ParallaxModel{3.0f, -30.0f}, Options(), target);
+    const int chunks = format == DepthFormat::unorm16 ? 1 : 256;
+    for (int a = 0; a < kArchCount; ++a) {
+      if (!arch_supported(static_cast<Arch>(a))) continue;
+      const detail::KernelTable& kernels = *detail::compiled_kernels(static_cast<Arch>(a));
+      for (int chunk = 0; chunk < chunks; ++chunk) {
+        for (int x = 0; x < width; ++x) {
+          const std::uint32_t u = static_cast<std::uint32_t>(chunk) * width + static_cast<std::uint32_t>(x);
+          if (format == DepthFormat::unorm16) {
+            const std::uint16_t v = static_cast<std::uint16_t>(u);
+            std::memcpy(row.data() + 2 * x, &v, 2);
+          } else {
+            const std::uint32_t w = format == DepthFormat::unorm24_s8 ? (u | 0xa5000000u) : (u << 8 | 0x5au);
+            std::memcpy(row.data() + 4 * x, &w, 4);
+          }
+        }
+        kernels.decode(f, row.data(), parallax.data(), stored.data());
+        const double max = format == DepthFormat::unorm16 ? 65535.0 : 16777215.0;
+        for (int x = 0; x < width; ++x) {
+          const std::uint32_t u = static_cast<std::uint32_t>(chunk) * width + static_cast<std::uint32_t>(x);
+          ASSERT_EQ(stored[static_cast<std::size_t>(x)], static_cast<float>(u / max))
+              << to_string(static_cast<Arch>(a)) << " " << to_string(format) << " code " << u;
+          ++checked;
+        }
+      }
+    }
+  }
+  std::printf("unorm decode: %ld codes through the kernels, all correctly rounded\n", checked);
 }
 
 // The seed's shader packing (EncUnitRangeToRGBA8) as a GPU evaluates it in float, the R, G, B
