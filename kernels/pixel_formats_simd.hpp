@@ -171,6 +171,24 @@ template <class Arch>
 void store_u16(const IntLanes<Arch>& codes, const xsimd::batch_bool<float, Arch>& write, bool masked, std::uint8_t* out) {
   using F = typename Lanes<Arch>::F;
   constexpr int L = Lanes<Arch>::size;
+#if defined(__AVX512F__)
+  if constexpr (L == 16) {
+    const __mmask16 lanes = masked ? static_cast<__mmask16>(write) : static_cast<__mmask16>(0xffff);
+    return _mm512_mask_cvtepi32_storeu_epi16(out, lanes, codes);
+  }
+#endif
+#if defined(__AVX2__)
+  if constexpr (L == 8) {
+    const __m256i c = codes;
+    __m128i packed = _mm_packus_epi32(_mm256_castsi256_si128(c), _mm256_extracti128_si256(c, 1));  // codes <= 65535
+    if (masked) {
+      const __m256i m = _mm256_castps_si256(static_cast<__m256>(write));
+      const __m128i keep = _mm_packs_epi32(_mm256_castsi256_si128(m), _mm256_extracti128_si256(m, 1));
+      packed = _mm_blendv_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(out)), packed, keep);
+    }
+    return _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packed);
+  }
+#endif
   alignas(64) std::int32_t code[L];
   alignas(64) float written[L];
   codes.store_aligned(code);
