@@ -507,6 +507,62 @@ TEST(PixelFormats, NativeMatchesTheFloatPath) {
               pixels, colour_off, depth_off);
 }
 
+// reproject_pair on every format: each eye equals its own reproject() call (the pair shares the
+// decode, and D16's kept stored values, between the eyes).
+TEST(PixelFormats, PairEqualsTwoSingleCalls) {
+  std::mt19937 rng(91);
+  long compared = 0;
+  for (const FormatCase& fc : kCases) {
+    const DepthDecoder decoder = decoder_for(fc, 0);
+    const Frames fr = make_frames(rng, 75, 9, fc, decoder);
+    for (int m = 0; m < kMethodCount; ++m) {
+      for (int variant : {0, 3}) {
+        const Options options = options_for(static_cast<Method>(m), variant, 75);
+        const ParallaxModel right{4.0f, -35.0f};
+        Outputs single[2], pair[2];
+        ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, ParallaxModel{-right.a, -right.b}, options, single[0]).ok());
+        ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, right, options, single[1]).ok());
+        // The pair: the same views as run() builds, with both targets.
+        auto views = [&](Outputs& out, SourceView& source, TargetView& target) {
+          run(nullptr, fr, fc, true, decoder, right, options, out);  // sizes and fills out's buffers
+          const int tw = fr.width - 2 * options.guard;
+          std::fill(out.color.begin(), out.color.end(), 0xab);
+          std::fill(out.depth.begin(), out.depth.end(), 0xcd);
+          std::fill(out.status.begin(), out.status.end(), 99);
+          source.color = fc.color == ColorFormat::float32
+                             ? ColorView::rgba(fr.color_f.data(), fr.width, fr.height, fr.width * 4)
+                             : ColorView::packed(fc.color, fr.color_b.data() + 1, fr.width, fr.height, fr.color_stride);
+          target.color = fc.color == ColorFormat::float32
+                             ? MutableColorView::rgba(reinterpret_cast<float*>(out.color.data()), tw, fr.height, out.color_stride / 4)
+                             : MutableColorView::packed(fc.color, out.color.data(), tw, fr.height, out.color_stride);
+          if (fc.depth == DepthFormat::float32) {
+            source.depth = FloatPlane{fr.depth_f.data(), fr.width, fr.height, fr.width};
+            target.depth = MutableFloatPlane{reinterpret_cast<float*>(out.depth.data()), tw, fr.height, out.depth_stride / 4};
+          } else {
+            source.depth_buffer = DepthBuffer::of(fc.depth, fr.depth_b.data() + 1, fr.width, fr.height, fr.depth_stride);
+            source.depth_buffer.linear_near = fr.packed_near;
+            source.depth_buffer.linear_far = fr.packed_far;
+            target.depth_buffer = MutableDepthBuffer::of(fc.depth, out.depth.data(), tw, fr.height, out.depth_stride);
+          }
+          target.status = BytePlane{out.status.data(), tw, fr.height, tw};
+        };
+        SourceView source;
+        TargetView left, right_target;
+        views(pair[0], source, left);
+        views(pair[1], source, right_target);
+        ASSERT_TRUE(reproject_pair(source, decoder, right, options, left, right_target).ok());
+        for (int eye = 0; eye < 2; ++eye) {
+          ASSERT_EQ(pair[eye].color, single[eye].color) << to_string(fc.color) << "+" << to_string(fc.depth) << " eye " << eye;
+          ASSERT_EQ(pair[eye].depth, single[eye].depth) << to_string(fc.color) << "+" << to_string(fc.depth) << " eye " << eye;
+          ASSERT_EQ(pair[eye].status, single[eye].status);
+          ++compared;
+        }
+      }
+    }
+  }
+  std::printf("formats: %ld pair eyes equal their single calls\n", compared);
+}
+
 TEST(PixelFormats, ClearErrors) {
   std::vector<std::uint8_t> bytes(64 * 4 * 8), out(64 * 4 * 8);
   std::vector<float> depth(64 * 8);
