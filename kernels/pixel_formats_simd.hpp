@@ -97,7 +97,8 @@ xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<A
   if constexpr (Format == DepthFormat::unorm16) return F(0.0f);  // 16-bit: not words (load_depth_values)
 }
 template <class Arch, class Fma>
-xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<Arch>& word) {
+__attribute__((always_inline)) inline xsimd::batch<float, Arch> depth_values_of_words(const Frame& f,
+                                                                                    const IntLanes<Arch>& word) {
   switch (f.depth.format) {
     case DepthFormat::unorm24_s8: return depth_values_of_words<Arch, Fma, DepthFormat::unorm24_s8>(f, word);
     case DepthFormat::s8_unorm24: return depth_values_of_words<Arch, Fma, DepthFormat::s8_unorm24>(f, word);
