@@ -346,7 +346,8 @@ def write_page(data, json_path, doc_path):
     w("(each benchmark times its own loop). Mpix/s counts target pixels (both eyes for `pair_`). \"÷ roofline\" is the")
     w("kernel's time divided by the time of `roofline` at the same size and thread count: a plain")
     w("row copy of exactly the bytes one eye must touch (read depth + colour, write colour + depth +")
-    w("status: 41 B/px for RGBA, 17 B/px for one grey plane), i.e. the memory-speed limit.")
+    w("status: 41 B/px for RGBA, 17 B/px for one grey plane; for the engine-format cases, read colour + depth")
+    w("and write colour, in their own section), i.e. the memory-speed limit.")
     w("")
     w("Benchmark names are those of `bench/bench_reproject.cpp` (`<method>/<arch>/<W>x<H>/threads:<n>[/sep:<px>|/rgba|/grey]`,")
     w("`<method>/<arch>/1920x1080/threads:<n>/<colour>+<depth>`, `pair_<method>/...`, `roofline/...`). Times and rates are")
@@ -702,7 +703,8 @@ def write_page(data, json_path, doc_path):
     w("roofline (`roofline/1920x1080/threads:<n>/<colour>+<depth>`) reads its colour and depth and writes its")
     w("colour, the bytes per pixel in each heading. \"× float\" is the time of the same method on")
     w("`%s` (interleaved float RGBA + float depth, best arch) over this one: above 1 the format is" % FLOAT_FORMAT)
-    w("faster. The cases run on AVX2 and the best arch only. Measured on %s." % cpu.get("model", "unknown CPU"))
+    w("faster. The cases run on AVX2 and the best arch only; rerun one format with e.g.")
+    w("`--filter '/rgba8\\+unorm24_s8$'` (`+` is a regex operator). Measured on %s." % cpu.get("model", "unknown CPU"))
     w("")
     ran = [f for f, _ in FORMATS if any(n.endswith("/" + f) for n in r.rows)]
     if not ran:
