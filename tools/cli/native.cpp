@@ -137,8 +137,11 @@ NativeSpec native_spec_from_flags(const Flags& flags) {
       fail(kExitUsage, "--color: the .raw file '" + color + "' needs --color-format FORMAT (" + kRawColorFormats + ")");
     }
     const std::string name = flags.text("color-format");
-    if (!parse_color_format(name.c_str(), &spec.color_format) || spec.color_format == ColorFormat::float32) {
+    if (!parse_color_format(name.c_str(), &spec.color_format)) {
       flags.bad_value("color-format", "unknown raw colour format '" + name + "' (" + kRawColorFormats + ")");
+    }
+    if (spec.color_format == ColorFormat::float32) {
+      flags.bad_value("color-format", "float32 colour is not read from a .raw file (" + std::string(kRawColorFormats) + ")");
     }
     flags.forbid("color-space", "a .raw colour (--color-format names how it blends)");
     flags.forbid("float-color", "a .raw colour (it is reprojected in its own format)");
