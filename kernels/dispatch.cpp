@@ -36,12 +36,13 @@ CpuFeatures detect() {
   cpu.sse41 = (c & bit_SSE4_1) != 0;
   const bool osxsave = (c & bit_OSXSAVE) != 0;
   const bool fma = (c & bit_FMA) != 0;
+  const bool f16c = (c & bit_F16C) != 0;  // rgba16f's conversions (every AVX2 CPU has it)
   if (!osxsave) return cpu;
   const unsigned long long xcr0 = xgetbv0();
   const bool os_ymm = (xcr0 & 0x6) == 0x6;        // SSE and AVX state
   const bool os_zmm = (xcr0 & 0xe6) == 0xe6;      // plus opmask and both ZMM halves
   if (!__get_cpuid_count(7, 0, &a, &b, &c, &d)) return cpu;
-  cpu.avx2_fma = os_ymm && fma && (b & bit_AVX2) != 0;
+  cpu.avx2_fma = os_ymm && fma && f16c && (b & bit_AVX2) != 0;
   cpu.avx512 = cpu.avx2_fma && os_zmm && (b & bit_AVX512F) && (b & bit_AVX512CD) && (b & bit_AVX512DQ) &&
                (b & bit_AVX512BW);
   return cpu;

@@ -14,6 +14,11 @@ namespace {
 
 float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi); }
 
+// Whether the decode keeps the row's stored depth values for the resolve (frame.hpp, RowScratch).
+bool stores_depth_values(const Frame& f) {
+  return f.depth_out.data != nullptr && f.depth.format != DepthFormat::float32;
+}
+
 void pad_parallax_row(const Frame& f, float* parallax) {
   std::fill(parallax - f.pad_left, parallax, parallax[0]);
   std::fill(parallax + f.source_width, parallax + f.source_width + f.pad_right, parallax[f.source_width - 1]);
@@ -38,13 +43,32 @@ RowScratch& thread_scratch(const Frame& f) {
 
 }  // namespace
 
+// The source's depth, or a target's output depth, as a depth buffer: a float plane is float32
+// with its stride in bytes (validation allows one of the two, src/reproject.cpp).
+DepthBuffer depth_buffer_of(const SourceView& view) {
+  if (view.depth_buffer.data != nullptr) return view.depth_buffer;
+  return DepthBuffer::of(DepthFormat::float32, view.depth.data, view.depth.width, view.depth.height,
+                         view.depth.stride * static_cast<std::ptrdiff_t>(sizeof(float)));
+}
+MutableDepthBuffer depth_buffer_of(const TargetView& view) {
+  if (view.depth_buffer.data != nullptr) return view.depth_buffer;
+  return MutableDepthBuffer::of(DepthFormat::float32, view.depth.data, view.depth.width, view.depth.height,
+                                view.depth.stride * static_cast<std::ptrdiff_t>(sizeof(float)));
+}
+
 Frame plan_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                  const Options& options, const TargetView& target) {
   Frame f;
   f.source = source;
   f.target = target;
-  f.source_width = source.depth.width;
-  f.height = source.depth.height;
+  f.depth = depth_buffer_of(source);
+  f.depth_out = depth_buffer_of(target);
+  f.color_format = source.color.format;
+  if (f.color_format == ColorFormat::rgba8_srgb) f.srgb = &srgb_tables();
+  f.packed_near = f.depth.linear_near;
+  f.packed_range = f.depth.linear_far - f.depth.linear_near;
+  f.source_width = f.depth.width;
+  f.height = f.depth.height;
   f.guard = options.guard;
   f.target_width = f.source_width - 2 * options.guard;
 
@@ -109,7 +133,7 @@ float nearest_key_in_rows(const Frame& f, const KernelTable& kernels, RowScratch
   // Decoded with the same kernels (and FMA policy) as the rows.
   (void)scratch;
   float nearest = f.key_far;
-  for (int y = row_begin; y < row_end; ++y) nearest = std::max(nearest, kernels.nearest_key(f, f.source.depth.row(y)));
+  for (int y = row_begin; y < row_end; ++y) nearest = std::max(nearest, kernels.nearest_key(f, f.depth.row(y)));
   return nearest;
 }
 
@@ -124,6 +148,8 @@ void prepare_scratch(const Frame& f, RowScratch& scratch) {
     scratch.clipped.resize(f.target_width);
     scratch.owner_storage.resize(static_cast<std::size_t>(f.target_width) + 2 * kOwnerPad);
   }
+  if (f.depth.format != DepthFormat::float32 && scratch.stored_depth.size() < static_cast<std::size_t>(f.source_width))
+    scratch.stored_depth.resize(f.source_width);
   // `secant` sizes its block table itself on first use; doing it here keeps that first use from
   // allocating inside a row on whichever thread happens to run it.
   const std::size_t entries = secant_table_size(f.source_width);
@@ -146,8 +172,9 @@ Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const Pa
 void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin, int row_end) {
   float* parallax = scratch.parallax_storage.data() + f.pad_left;
   scratch.parallax = parallax;
+  float* stored = stores_depth_values(f) ? scratch.stored_depth.data() : nullptr;
   for (int y = row_begin; y < row_end; ++y) {
-    kernels.decode(f, f.source.depth.row(y), parallax);
+    kernels.decode(f, f.depth.row(y), parallax, stored);
     search_and_resolve(f, kernels, scratch, parallax, y);
   }
 }
@@ -165,19 +192,21 @@ void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& ker
   float* parallax = scratch.parallax_storage.data() + std::max(left.pad_left, right.pad_left);
   scratch.parallax = parallax;
   const bool mirrored = mirrored_eyes(left, right);
+  float* stored = stores_depth_values(left) || stores_depth_values(right) ? scratch.stored_depth.data() : nullptr;
   for (int y = row_begin; y < row_end; ++y) {
     // Each source row is read from memory once and decoded once: the left eye's model is the
     // right's mirror (-a, -b), so its decode is the negation of the right eye's, bit for bit
     // (the decode constants are exact negations, rounding is symmetric, both eyes' keys s * p are
     // equal, so the clamps pick the same branch; zeros are +0 on both sides, hence 0 - p). The
     // left eye's colour reads then hit the rows the right eye's resolve has just read.
-    const float* depth = right.source.depth.row(y);
-    kernels.decode(right, depth, parallax);
+    const std::uint8_t* depth = right.depth.row(y);
+    // The stored values are the same for both eyes: the right eye's decode writes them for both.
+    kernels.decode(right, depth, parallax, stored);
     search_and_resolve(right, kernels, scratch, parallax, y);
     if (mirrored) {
       for (int x = 0; x < right.source_width; ++x) parallax[x] = 0.0f - parallax[x];
     } else {
-      kernels.decode(left, depth, parallax);
+      kernels.decode(left, depth, parallax, stored);
     }
     search_and_resolve(left, kernels, scratch, parallax, y);
   }

@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
+#include "kernels/pixel_formats.hpp"
 #include "reproject/reproject.hpp"
 
 namespace reproject {
@@ -16,6 +18,15 @@ namespace detail {
 struct Frame {
   SourceView source;
   TargetView target;
+  // Depth in its format (DepthFormat; a float plane is float32 with its stride in bytes), and the
+  // output depth (null when not asked for), in the same format.
+  DepthBuffer depth;
+  MutableDepthBuffer depth_out;
+  ColorFormat color_format = ColorFormat::float32;
+  const SrgbTables* srgb = nullptr;  // rgba8_srgb
+  // rgba8_packed_linear: d = near + v (far - near).
+  float packed_near = 0.0f;
+  float packed_range = 1.0f;
   int source_width = 0;  // Ws, guard band included
   int target_width = 0;  // Wt = Ws - 2 guard
   int height = 0;
@@ -66,6 +77,9 @@ struct RowScratch {
   std::vector<float> owner_storage;
   std::vector<float> block_min;  // `secant`: min/max key per block of columns (secant.hpp)
   std::vector<float> block_max;
+  // The stored depth values d of the row (depth formats other than float32, when the output
+  // depth is asked for): the decode writes them, the resolve interpolates them.
+  std::vector<float> stored_depth;
   const float* parallax = nullptr;  // column 0 of the padded row
 };
 
@@ -89,6 +103,41 @@ inline float madd(float a, float b, float c) noexcept {
   } else {
     return a * b + c;
   }
+}
+
+// The stored depth value d of column i of a depth row in the frame's format (DepthFormat).
+template <class Fma>
+inline float depth_value(const Frame& f, const std::uint8_t* row, int i) noexcept {
+  switch (f.depth.format) {
+    case DepthFormat::unorm16: {
+      std::uint16_t code;
+      std::memcpy(&code, row + 2 * static_cast<std::ptrdiff_t>(i), 2);
+      return unorm_value(code, kUnorm16Max);
+    }
+    case DepthFormat::unorm24_s8: return unorm_value(load_u32(row + 4 * static_cast<std::ptrdiff_t>(i)) & 0xffffffu, kUnorm24Max);
+    case DepthFormat::s8_unorm24: return unorm_value(load_u32(row + 4 * static_cast<std::ptrdiff_t>(i)) >> 8, kUnorm24Max);
+    case DepthFormat::rgba8_packed_linear: {
+      // Never fused, on any arch: the stored value is a function of the bytes alone.
+      const float v = unorm_value(packed_code(load_u32(row + 4 * static_cast<std::ptrdiff_t>(i))), kPackedMax);
+      return v * f.packed_range + f.packed_near;
+    }
+    case DepthFormat::float32: break;
+  }
+  return float_of_bits(load_u32(row + 4 * static_cast<std::ptrdiff_t>(i)));
+}
+
+// The word (or code) that stores depth d in the frame's format; `kept` is the source word whose
+// other bits (D24S8's stencil, the packed format's A byte) go with it.
+inline std::uint32_t depth_word(const Frame& f, float d, std::uint32_t kept) noexcept {
+  switch (f.depth.format) {
+    case DepthFormat::unorm16: return unorm_code(d, kUnorm16Max);
+    case DepthFormat::unorm24_s8: return unorm_code(d, kUnorm24Max) | (kept & 0xff000000u);
+    case DepthFormat::s8_unorm24: return (unorm_code(d, kUnorm24Max) << 8) | (kept & 0xffu);
+    case DepthFormat::rgba8_packed_linear:
+      return packed_word(packed_code_of((d - f.packed_near) / f.packed_range)) | (kept & 0xff000000u);
+    case DepthFormat::float32: break;
+  }
+  return bits_of_float(d);
 }
 
 // The decoded parallax of a stored depth value, made total (BEHAVIOUR.md "Non-finite and
@@ -182,10 +231,11 @@ inline float march_columns(const Frame& f, const float* parallax, int target, fl
 }  // namespace
 
 // One instruction set's kernels: every stage of every method.
-using DecodeRow = void (*)(const Frame& f, const float* depth, float* parallax);
+// A depth row in the frame's format; `stored` (null: not needed) receives the stored values d.
+using DecodeRow = void (*)(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored);
 using SearchRow = void (*)(const Frame& f, RowScratch& scratch);
 using ResolveRow = void (*)(const Frame& f, int y, const RowScratch& scratch);
-using NearestKey = float (*)(const Frame& f, const float* depth);  // max of key_far and s * p over a row
+using NearestKey = float (*)(const Frame& f, const std::uint8_t* depth);  // max of key_far and s * p over a row
 // How many vectors the calling thread's SIMD resolve has read in each column-fetch mode
 // (consecutive, shifted, spanning, gather), per table: the bit-identity test reads them to show
 // that every mode ran. Scalar tables have none.
@@ -224,14 +274,19 @@ template <class Fma> void search_row_exact(const Frame& f, RowScratch& scratch, 
 
 // The shared stages' scalar references: decode columns [begin, end) of a row (no padding), and
 // resolve target pixels [t_begin, t_end) of row y.
-template <class Fma> void decode_parallax_columns(const Frame& f, const float* depth, float* parallax, int begin, int end);
-template <class Fma> float nearest_key_in_columns(const Frame& f, const float* depth, int begin, int end, float nearest);
+template <class Fma> void decode_parallax_columns(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored, int begin, int end);
+template <class Fma> float nearest_key_in_columns(const Frame& f, const std::uint8_t* depth, int begin, int end, float nearest);
 template <class Fma> void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begin, int t_end);
 
 // The scalar references as a table, with either FMA policy.
 const KernelTable& scalar_kernels(bool fused);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
+
+// The source's depth, or a target's output depth, as a depth buffer: `depth_buffer` when its
+// data is set, else the float plane as float32 with its stride in bytes (validation allows one).
+DepthBuffer depth_buffer_of(const SourceView& view);
+MutableDepthBuffer depth_buffer_of(const TargetView& view);
 
 // Builds the plan from validated inputs (including the default p_near pass over the depth).
 Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,

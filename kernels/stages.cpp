@@ -3,6 +3,7 @@
 // kernel table. Compiled twice, like every scalar reference (see frame.hpp).
 // Its SIMD twin: kernels/stages_simd.hpp.
 #include <algorithm>
+#include <cstring>
 
 #include "kernels/frame.hpp"
 
@@ -13,15 +14,29 @@ namespace {
 
 float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi); }
 
-// Reads channel c of source pixel i and writes target pixel t, for either layout.
-struct RowIo {
+// A row's colour in its format: writes target pixel t as source columns j0 and j1 blended at
+// `frac` (c0 + frac (c1 - c0) per channel with the table's FMA policy), or as zeros (`black`).
+// Float values are blended as they are; rgba8 as the byte values, rgba8_srgb's R, G, B as their
+// linear values, rgba16f as the halves' values; then each is stored in the format, rounded to
+// nearest even (docs/BEHAVIOUR.md "Pixel formats").
+template <class Fma>
+struct ColorRow {
+  ColorFormat format;
+  const SrgbTables* srgb;
   const float* src[4];
   float* dst[4];
   int channels;
-  int pixel_step;  // 1 planar, 4 interleaved
+  int pixel_step;  // floats: 1 planar, 4 interleaved
+  const std::uint8_t* src_bytes;
+  std::uint8_t* dst_bytes;
 
-  RowIo(const Frame& f, int y) {
+  ColorRow(const Frame& f, int y) : format(f.color_format), srgb(f.srgb) {
     channels = f.source.color.channels;
+    if (format != ColorFormat::float32) {
+      src_bytes = f.source.color.pixels.row(y);
+      dst_bytes = f.target.color.pixels.row(y);
+      return;
+    }
     const bool interleaved = f.source.color.layout == ColorLayout::interleaved_rgba;
     pixel_step = interleaved ? 4 : 1;
     for (int c = 0; c < channels; ++c) {
@@ -31,8 +46,41 @@ struct RowIo {
       dst[c] = f.target.color.plane[plane].row(y) + offset;
     }
   }
-  float source(int c, int i) const { return src[c][static_cast<std::ptrdiff_t>(i) * pixel_step]; }
-  float& target(int c, int t) const { return dst[c][static_cast<std::ptrdiff_t>(t) * pixel_step]; }
+  static float blend(float frac, float c0, float c1) { return madd<Fma>(frac, c1 - c0, c0); }
+  static std::uint8_t unorm8(float value) { return static_cast<std::uint8_t>(round_even(clamp_code(value, 255.0f))); }
+
+  void write(int t, int j0, int j1, float frac, bool black) const {
+    const std::ptrdiff_t a = j0, b = j1, out = t;
+    switch (format) {
+      case ColorFormat::float32:
+        for (int c = 0; c < channels; ++c)
+          dst[c][out * pixel_step] = black ? 0.0f : blend(frac, src[c][a * pixel_step], src[c][b * pixel_step]);
+        return;
+      case ColorFormat::rgba8:
+      case ColorFormat::rgba8_srgb:
+        for (int c = 0; c < 4; ++c) {
+          const std::uint8_t c0 = src_bytes[4 * a + c], c1 = src_bytes[4 * b + c];
+          std::uint8_t value = 0;
+          if (black) {
+          } else if (format == ColorFormat::rgba8_srgb && c < 3) {
+            value = srgb_encode(*srgb, blend(frac, srgb->to_linear[c0], srgb->to_linear[c1]));
+          } else {
+            value = unorm8(blend(frac, static_cast<float>(c0), static_cast<float>(c1)));
+          }
+          dst_bytes[4 * out + c] = value;
+        }
+        return;
+      case ColorFormat::rgba16f:
+        for (int c = 0; c < 4; ++c) {
+          std::uint16_t h0, h1, value = 0;
+          std::memcpy(&h0, src_bytes + 8 * a + 2 * c, 2);
+          std::memcpy(&h1, src_bytes + 8 * b + 2 * c, 2);
+          if (!black) value = float_to_half(blend(frac, half_to_float(h0), half_to_float(h1)));
+          std::memcpy(dst_bytes + 8 * out + 2 * c, &value, 2);
+        }
+        return;
+    }
+  }
 };
 
 // Output depth between two stored values, in the space where a plane is linear: the stored value
@@ -48,22 +96,31 @@ float interpolate_depth(const Frame& f, float d0, float d1, float frac) {
 }  // namespace
 
 template <class Fma>
-void decode_parallax_columns(const Frame& f, const float* depth, float* parallax, int begin, int end) {
-  for (int i = begin; i < end; ++i) parallax[i] = decode_parallax<Fma>(f, depth[i]);
+void decode_parallax_columns(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored, int begin,
+                             int end) {
+  for (int i = begin; i < end; ++i) {
+    const float d = depth_value<Fma>(f, depth, i);
+    parallax[i] = decode_parallax<Fma>(f, d);
+    if (stored) stored[i] = d;
+  }
 }
 
 template <class Fma>
-float nearest_key_in_columns(const Frame& f, const float* depth, int begin, int end, float nearest) {
-  for (int i = begin; i < end; ++i) nearest = std::max(nearest, f.s * decode_parallax<Fma>(f, depth[i]));
+float nearest_key_in_columns(const Frame& f, const std::uint8_t* depth, int begin, int end, float nearest) {
+  for (int i = begin; i < end; ++i) nearest = std::max(nearest, f.s * decode_parallax<Fma>(f, depth_value<Fma>(f, depth, i)));
   return nearest;
 }
 
 template <class Fma>
 void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begin, int t_end) {
-  const RowIo io(f, y);
+  const ColorRow<Fma> color(f, y);
   const float* parallax = scratch.parallax;
-  const float* depth = f.source.depth.row(y);
-  float* depth_out = f.target.depth.data ? f.target.depth.row(y) : nullptr;
+  const std::uint8_t* depth_row = f.depth.row(y);
+  // Float depth is interpolated from the row itself, the other formats from the decode's values.
+  const bool float_depth = f.depth.format == DepthFormat::float32;
+  const float* depth = float_depth ? reinterpret_cast<const float*>(depth_row) : scratch.stored_depth.data();
+  std::uint8_t* depth_out = f.depth_out.data ? f.depth_out.row(y) : nullptr;
+  const int depth_bytes = bytes_per_pixel(f.depth.format);
   std::uint8_t* status_out = f.target.status.data ? f.target.status.row(y) : nullptr;
   float* x_out = f.target.source_x.data ? f.target.source_x.row(y) : nullptr;
   const int last = f.source_width - 1;
@@ -109,21 +166,27 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
       }
     }
     if (write) {
-      for (int c = 0; c < io.channels; ++c) {
-        const float c0 = io.source(c, j0);
-        io.target(c, t) = black ? 0.0f : madd<Fma>(frac, io.source(c, j1) - c0, c0);
+      color.write(t, j0, j1, frac, black);
+      if (depth_out) {
+        const float d = interpolate_depth<Fma>(f, depth[j0], depth[j1], frac);
+        const std::uint32_t word = depth_word(f, d, depth_bytes == 4 && !float_depth ? load_u32(depth_row + 4 * static_cast<std::ptrdiff_t>(j0)) : 0u);
+        if (depth_bytes == 2) {
+          const std::uint16_t code = static_cast<std::uint16_t>(word);
+          std::memcpy(depth_out + 2 * static_cast<std::ptrdiff_t>(t), &code, 2);
+        } else {
+          store_u32(depth_out + 4 * static_cast<std::ptrdiff_t>(t), word);
+        }
       }
-      if (depth_out) depth_out[t] = interpolate_depth<Fma>(f, depth[j0], depth[j1], frac);
     }
     if (status_out) status_out[t] = static_cast<std::uint8_t>(status);
     if (x_out) x_out[t] = x;
   }
 }
 
-template void decode_parallax_columns<Fused>(const Frame&, const float*, float*, int, int);
-template void decode_parallax_columns<Unfused>(const Frame&, const float*, float*, int, int);
-template float nearest_key_in_columns<Fused>(const Frame&, const float*, int, int, float);
-template float nearest_key_in_columns<Unfused>(const Frame&, const float*, int, int, float);
+template void decode_parallax_columns<Fused>(const Frame&, const std::uint8_t*, float*, float*, int, int);
+template void decode_parallax_columns<Unfused>(const Frame&, const std::uint8_t*, float*, float*, int, int);
+template float nearest_key_in_columns<Fused>(const Frame&, const std::uint8_t*, int, int, float);
+template float nearest_key_in_columns<Unfused>(const Frame&, const std::uint8_t*, int, int, float);
 template void resolve_pixels<Fused>(const Frame&, int, const RowScratch&, int, int);
 template void resolve_pixels<Unfused>(const Frame&, int, const RowScratch&, int, int);
 
@@ -131,11 +194,11 @@ namespace {
 
 // The scalar references as whole-row kernels.
 template <class Fma>
-void scalar_decode(const Frame& f, const float* depth, float* parallax) {
-  decode_parallax_columns<Fma>(f, depth, parallax, 0, f.source_width);
+void scalar_decode(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored) {
+  decode_parallax_columns<Fma>(f, depth, parallax, stored, 0, f.source_width);
 }
 template <class Fma>
-float scalar_nearest_key(const Frame& f, const float* depth) {
+float scalar_nearest_key(const Frame& f, const std::uint8_t* depth) {
   return nearest_key_in_columns<Fma>(f, depth, 0, f.source_width, f.key_far);
 }
 template <class Fma, void (*Search)(const Frame&, RowScratch&, int, int)>

@@ -2,6 +2,7 @@
 // resolve.
 #pragma once
 
+#include "kernels/pixel_formats_simd.hpp"
 #include "kernels/simd.hpp"
 
 namespace reproject {
@@ -11,40 +12,45 @@ namespace {  // one copy per arch TU (kernels/simd.hpp)
 // ---- decode (scalar twin: decode_parallax_columns) ----
 
 template <class Arch, class Fma>
-void simd_decode(const Frame& f, const float* depth, float* parallax) {
+void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored) {
   using F = typename Lanes<Arch>::F;
   constexpr int L = Lanes<Arch>::size;
   const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
   const F key_far(f.key_far), p_far(f.p_far), limit(f.limit), near_bound(f.s * f.limit), one(1.0f);
   int i = 0;
-  for (; i + L <= f.source_width; i += L) {
-    const F d = F::load_unaligned(depth + i);
-    F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
-    const F key = s * p;
-    p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
-    p = xsimd::select(key > limit, near_bound, p);
-    (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
-  }
-  decode_parallax_columns<Fma>(f, depth, parallax, i, f.source_width);
+  with_depth_format(f.depth.format, [&](auto format) {
+    for (; i + L <= f.source_width; i += L) {
+      const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
+      if (stored) d.store_unaligned(stored + i);
+      F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+      const F key = s * p;
+      p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
+      p = xsimd::select(key > limit, near_bound, p);
+      (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
+    }
+  });
+  decode_parallax_columns<Fma>(f, depth, parallax, stored, i, f.source_width);
 }
 
 // The default near end's pass (scalar twin: nearest_key_in_columns): the same decode, reduced
 // with max (order-independent, and no NaN survives the decode, so any order gives the same bits).
 template <class Arch, class Fma>
-float simd_nearest_key(const Frame& f, const float* depth) {
+float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
   using F = typename Lanes<Arch>::F;
   constexpr int L = Lanes<Arch>::size;
   const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
   const F key_far(f.key_far), limit(f.limit), one(1.0f);
   F nearest = key_far;
   int i = 0;
-  for (; i + L <= f.source_width; i += L) {
-    const F d = F::load_unaligned(depth + i);
-    const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
-    const F key = s * p;
-    // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
-    nearest = xsimd::max(nearest, xsimd::select(key >= key_far, xsimd::min(key, limit), key_far));
-  }
+  with_depth_format(f.depth.format, [&](auto format) {
+    for (; i + L <= f.source_width; i += L) {
+      const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
+      const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+      const F key = s * p;
+      // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
+      nearest = xsimd::max(nearest, xsimd::select(key >= key_far, xsimd::min(key, limit), key_far));
+    }
+  });
   return nearest_key_in_columns<Fma>(f, depth, i, f.source_width, lane_max<Arch>(nearest));
 }
 
@@ -66,10 +72,22 @@ __m128 rgba_lerp(__m128 frac, __m128 c0, __m128 c1) {
   }
 }
 
+// A pixel per 128-bit vector: float RGBA (16 bytes) or rgba16f (8 bytes, converted exactly).
+struct FloatRgbaPixel {
+  static constexpr int kBytes = 16;
+  static __m128 load(const std::uint8_t* p) { return _mm_loadu_ps(reinterpret_cast<const float*>(p)); }
+  static void store(std::uint8_t* p, __m128 v) { _mm_storeu_ps(reinterpret_cast<float*>(p), v); }
+};
+struct HalfRgbaPixel {
+  static constexpr int kBytes = 8;
+  static __m128 load(const std::uint8_t* p) { return load_half4(p); }
+  static void store(std::uint8_t* p, __m128 v) { store_half4(p, v); }
+};
+
 // The L pixels of one vector: interpolated between columns j0 and j1 at frac; lanes with
 // `keep` set are left to the caller, lanes with `black` set are written as zeros.
-template <class Arch, class Fma>
-void resolve_rgba_pixels(const float* source, float* target, const xsimd::batch<float, Arch>& j0,
+template <class Arch, class Fma, class Pixel>
+void resolve_rgba_pixels(const std::uint8_t* source, std::uint8_t* target, const xsimd::batch<float, Arch>& j0,
                          const xsimd::batch<float, Arch>& j1, const xsimd::batch<float, Arch>& frac,
                          const xsimd::batch_bool<float, Arch>& keep, const xsimd::batch_bool<float, Arch>& black,
                          bool any_special) {
@@ -78,15 +96,14 @@ void resolve_rgba_pixels(const float* source, float* target, const xsimd::batch<
   constexpr int L = Lanes<Arch>::size;
   alignas(64) std::int32_t first[L], second[L];
   alignas(64) float weight[L];
-  (xsimd::to_int(j0) * I(4)).store_aligned(first);
-  (xsimd::to_int(j1) * I(4)).store_aligned(second);
+  (xsimd::to_int(j0) * I(Pixel::kBytes)).store_aligned(first);
+  (xsimd::to_int(j1) * I(Pixel::kBytes)).store_aligned(second);
   frac.store_aligned(weight);
+  auto blend = [&](int i) {
+    return rgba_lerp<Fma>(_mm_set1_ps(weight[i]), Pixel::load(source + first[i]), Pixel::load(source + second[i]));
+  };
   if (!any_special) {
-    for (int i = 0; i < L; ++i) {
-      const __m128 value = rgba_lerp<Fma>(_mm_set1_ps(weight[i]), _mm_loadu_ps(source + first[i]),
-                                          _mm_loadu_ps(source + second[i]));
-      _mm_storeu_ps(target + 4 * i, value);
-    }
+    for (int i = 0; i < L; ++i) Pixel::store(target + Pixel::kBytes * i, blend(i));
     return;
   }
   alignas(64) float kept[L], blacked[L];
@@ -94,10 +111,7 @@ void resolve_rgba_pixels(const float* source, float* target, const xsimd::batch<
   xsimd::select(black, F(1.0f), F(0.0f)).store_aligned(blacked);
   for (int i = 0; i < L; ++i) {
     if (kept[i] != 0.0f) continue;
-    const __m128 value = blacked[i] != 0.0f ? _mm_setzero_ps()
-                                            : rgba_lerp<Fma>(_mm_set1_ps(weight[i]), _mm_loadu_ps(source + first[i]),
-                                                             _mm_loadu_ps(source + second[i]));
-    _mm_storeu_ps(target + 4 * i, value);
+    Pixel::store(target + Pixel::kBytes * i, blacked[i] != 0.0f ? _mm_setzero_ps() : blend(i));
   }
 }
 
@@ -107,16 +121,28 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   using B = typename Lanes<Arch>::B;
   constexpr int L = Lanes<Arch>::size;
   const bool interleaved = f.source.color.layout == ColorLayout::interleaved_rgba;
+  const ColorFormat format = f.color_format;
+  // rgba8 and rgba8_srgb: a pixel is a 32-bit word, read with the column plan like a float;
+  // float RGBA and rgba16f: a pixel per 128-bit vector; float planes: a float per lane and plane.
+  const bool word_pixels = format == ColorFormat::rgba8 || format == ColorFormat::rgba8_srgb;
+  const bool vector_pixels = interleaved && !word_pixels;
   const int planes = interleaved ? 1 : f.source.color.channels;
-  const float* source[4];
-  float* target[4];
+  const std::uint8_t* source[4];
+  std::uint8_t* target[4];
   for (int c = 0; c < planes; ++c) {
-    source[c] = f.source.color.plane[c].row(y);
-    target[c] = f.target.color.plane[c].row(y);
+    source[c] = format == ColorFormat::float32 ? reinterpret_cast<const std::uint8_t*>(f.source.color.plane[c].row(y))
+                                               : f.source.color.pixels.row(y);
+    target[c] = format == ColorFormat::float32 ? reinterpret_cast<std::uint8_t*>(f.target.color.plane[c].row(y))
+                                               : f.target.color.pixels.row(y);
   }
+  const int pixel_bytes = format == ColorFormat::float32 ? (interleaved ? 16 : 4) : bytes_per_pixel(format);
   const float* parallax = scratch.parallax;
-  const float* depth = f.source.depth.row(y);
-  float* depth_out = f.target.depth.data ? f.target.depth.row(y) : nullptr;
+  // Float depth is interpolated from the row itself, the other formats from the decode's values.
+  const std::uint8_t* depth_row = f.depth.row(y);
+  const bool float_depth = f.depth.format == DepthFormat::float32;
+  const float* depth = float_depth ? reinterpret_cast<const float*>(depth_row) : scratch.stored_depth.data();
+  const int depth_bytes = bytes_per_pixel(f.depth.format);
+  std::uint8_t* depth_out = f.depth_out.data ? f.depth_out.row(y) : nullptr;
   std::uint8_t* status_out = f.target.status.data ? f.target.status.row(y) : nullptr;
   float* x_out = f.target.source_x.data ? f.target.source_x.row(y) : nullptr;
   const F zero(0.0f), one(1.0f), last(static_cast<float>(f.source_width - 1)), tau(f.hole_threshold), s(f.s);
@@ -162,32 +188,59 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
     auto store = [&](float* out, const F& value) {
       (masked ? xsimd::select(write, value, F::load_unaligned(out)) : value).store_unaligned(out);
     };
-    if (interleaved) {
+    const std::ptrdiff_t out_byte = static_cast<std::ptrdiff_t>(t) * pixel_bytes;
+    if (vector_pixels) {
       const B black = outside & B(black_edges);
-      resolve_rgba_pixels<Arch, Fma>(source[0], target[0] + 4 * static_cast<std::ptrdiff_t>(t), j0, j1, frac, ~write,
-                                     black, masked || (black_edges && xsimd::any(black)));
-    } else {
+      const bool special = masked || (black_edges && xsimd::any(black));
+      if (format == ColorFormat::rgba16f) {
+        resolve_rgba_pixels<Arch, Fma, HalfRgbaPixel>(source[0], target[0] + out_byte, j0, j1, frac, ~write, black, special);
+      } else {
+        resolve_rgba_pixels<Arch, Fma, FloatRgbaPixel>(source[0], target[0] + out_byte, j0, j1, frac, ~write, black, special);
+      }
+    } else if (!word_pixels) {
       // A kilobyte ahead in each colour plane: a measured 1-3 % over the hardware prefetcher
       // alone, which tracks this many streams less well.
-      for (int c = 0; c < planes; ++c) __builtin_prefetch(source[c] + t + 256);
+      for (int c = 0; c < planes; ++c) __builtin_prefetch(source[c] + 4 * t + 1024);
     }
     columns.visit([&](const auto& fetch) {
-      if (!interleaved) {
+      if (!interleaved || word_pixels) {
         for (int c = 0; c < planes; ++c) {
           F c0, c1;
-          fetch(source[c], c0, c1);
-          const F value = vmadd<Fma>(frac, c1 - c0, c0);
-          store(target[c] + t, black_edges ? xsimd::select(outside, zero, value) : value);
+          fetch(reinterpret_cast<const float*>(source[c]), c0, c1);
+          F value;
+          if (format == ColorFormat::rgba8) {
+            value = float_bits<Arch>(blend_rgba8<Arch, Fma, false>(f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac));
+          } else if (format == ColorFormat::rgba8_srgb) {
+            value = float_bits<Arch>(blend_rgba8<Arch, Fma, true>(f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac));
+          } else {
+            value = vmadd<Fma>(frac, c1 - c0, c0);
+          }
+          store(reinterpret_cast<float*>(target[c] + out_byte), black_edges ? xsimd::select(outside, zero, value) : value);
         }
       }
       if (depth_out) {
         F d0, d1;
         fetch(depth, d0, d1);
+        F d;
         if (f.affine) {
-          store(depth_out + t, vmadd<Fma>(frac, d1 - d0, d0));
+          d = vmadd<Fma>(frac, d1 - d0, d0);
         } else {
           const F w0 = one / d0;
-          store(depth_out + t, one / vmadd<Fma>(frac, one / d1 - w0, w0));
+          d = one / vmadd<Fma>(frac, one / d1 - w0, w0);
+        }
+        float* out = reinterpret_cast<float*>(depth_out + static_cast<std::ptrdiff_t>(t) * depth_bytes);
+        if (float_depth) {
+          store(out, d);
+        } else {
+          // The source word of column j0 gives the bits that are not depth (stencil, A).
+          F kept0 = zero, kept1;
+          if (depth_bytes == 4) fetch(reinterpret_cast<const float*>(depth_row), kept0, kept1);
+          const auto words = depth_words<Arch>(f, d, bits_of<Arch>(kept0));
+          if (depth_bytes == 4) {
+            store(out, float_bits<Arch>(words));
+          } else {
+            store_u16<Arch>(words, write, masked, depth_out + 2 * static_cast<std::ptrdiff_t>(t));
+          }
         }
       }
     });

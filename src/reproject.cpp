@@ -43,6 +43,21 @@ ByteRange span_of(const PlaneView<T>& plane, int floats_per_pixel, const char* n
   return range;
 }
 
+template <class Byte>
+ByteRange span_of(const DepthBufferT<Byte>& depth, const char* name) {
+  return span_of(PlaneView<Byte>{depth.data, depth.width, depth.height, depth.stride}, bytes_per_pixel(depth.format), name);
+}
+template <class T>
+int colour_spans(const ColorViewT<T>& color, ByteRange* out, const char* name) {
+  if (color.format != ColorFormat::float32) {
+    out[0] = span_of(color.pixels, bytes_per_pixel(color.format), name);
+    return 1;
+  }
+  const bool interleaved = color.layout == ColorLayout::interleaved_rgba;
+  for (int c = 0; c < (interleaved ? 1 : color.channels); ++c) out[c] = span_of(color.plane[c], interleaved ? 4 : 1, name);
+  return interleaved ? 1 : color.channels;
+}
+
 bool overlap(const ByteRange& x, const ByteRange& y) {
   return x.begin < x.end && y.begin < y.end && x.begin < y.end && y.begin < x.end;
 }
@@ -64,7 +79,18 @@ template <class T>
 Status check_color(const ColorViewT<T>& color, int width, int height, const char* name) {
   if (color.layout != ColorLayout::planar && color.layout != ColorLayout::interleaved_rgba)
     return Status(StatusCode::invalid_option, "%s: unknown colour layout %d", name, static_cast<int>(color.layout));
+  if (static_cast<unsigned>(color.format) >= static_cast<unsigned>(kColorFormatCount))
+    return Status(StatusCode::invalid_option, "%s: unknown colour format %d", name, static_cast<int>(color.format));
   const bool interleaved = color.layout == ColorLayout::interleaved_rgba;
+  if (color.format != ColorFormat::float32) {
+    // Packed RGBA pixels in an engine format (ColorView::packed).
+    if (!interleaved || color.channels != 4)
+      return Status(StatusCode::size_mismatch, "%s: %s is interleaved RGBA (4 channels); this view says %d %s", name,
+                    to_string(color.format), color.channels, interleaved ? "interleaved" : "planar");
+    const Status status = check_plane(color.pixels, width, height, bytes_per_pixel(color.format), "pixels");
+    if (!status.ok()) return Status(status.code(), "%s %s %s", name, to_string(color.format), status.message());
+    return Status();
+  }
   if (interleaved ? color.channels != 4 : (color.channels < 1 || color.channels > 4))
     return Status(StatusCode::size_mismatch, "%s: %d channels (planar takes 1..4, interleaved RGBA 4)", name, color.channels);
   static const char* const kPlaneNames[4] = {"plane 0", "plane 1", "plane 2", "plane 3"};
@@ -72,6 +98,33 @@ Status check_color(const ColorViewT<T>& color, int width, int height, const char
     const Status status = check_plane(color.plane[c], width, height, interleaved ? 4 : 1, kPlaneNames[c]);
     if (!status.ok()) return Status(status.code(), "%s %s", name, status.message());
   }
+  return Status();
+}
+
+// A depth buffer (source or output) of the frame's size; strides in bytes.
+template <class Byte>
+Status check_depth_buffer(const DepthBufferT<Byte>& depth, int width, int height, const char* name) {
+  if (static_cast<unsigned>(depth.format) >= static_cast<unsigned>(kDepthFormatCount))
+    return Status(StatusCode::invalid_option, "%s: unknown depth format %d", name, static_cast<int>(depth.format));
+  const PlaneView<Byte> bytes{depth.data, depth.width, depth.height, depth.stride};
+  Status status = check_plane(bytes, width, height, bytes_per_pixel(depth.format), name);
+  if (!status.ok()) return Status(status.code(), "%s (%s, stride in bytes)", status.message(), to_string(depth.format));
+  if (depth.format == DepthFormat::float32 &&
+      (reinterpret_cast<std::uintptr_t>(depth.data) % alignof(float) != 0 || depth.stride % 4 != 0))
+    return Status(StatusCode::invalid_stride, "%s: float32 depth rows must start on 4-byte boundaries (data %p, stride %td bytes)",
+                  name, static_cast<const void*>(depth.data), depth.stride);
+  if (depth.format == DepthFormat::rgba8_packed_linear &&
+      !(std::isfinite(depth.linear_near) && std::isfinite(depth.linear_far) && depth.linear_far != depth.linear_near))
+    return Status(StatusCode::invalid_option, "%s: rgba8_packed_linear range [%g, %g] must be finite and not empty", name,
+                  depth.linear_near, depth.linear_far);
+  return Status();
+}
+
+// Depth is given once: the float plane or the depth buffer.
+template <class View>
+Status check_one_depth(const View& view, const char* name) {
+  if (view.depth.data != nullptr && view.depth_buffer.data != nullptr)
+    return Status(StatusCode::invalid_option, "%s: both depth (a float plane) and depth_buffer are set; set one", name);
   return Status();
 }
 
@@ -115,13 +168,18 @@ Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const
   if (!status.ok()) return status;
   status = check_options(options);
   if (!status.ok()) return status;
-  const FloatPlane& depth = source.depth;
+  if (!(status = check_one_depth(source, "source")).ok()) return status;
+  const DepthBuffer depth = detail::depth_buffer_of(source);
   if (depth.width < 0 || depth.height < 0)
     return Status(StatusCode::invalid_size, "source depth: negative size %dx%d", depth.width, depth.height);
   if (depth.width > kMaxWidth)
     return Status(StatusCode::invalid_size, "source depth: width %d is above the maximum %d", depth.width, kMaxWidth);
   if (depth.width == 0 || depth.height == 0) return Status();
-  status = check_plane(depth, depth.width, depth.height, 1, "source depth");
+  if (source.depth_buffer.data == nullptr) {
+    status = check_plane(source.depth, depth.width, depth.height, 1, "source depth");
+  } else {
+    status = check_depth_buffer(depth, depth.width, depth.height, "source depth_buffer");
+  }
   if (!status.ok()) return status;
   status = check_color(source.color, depth.width, depth.height, "source colour");
   if (!status.ok()) return status;
@@ -132,19 +190,34 @@ Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const
 }
 
 Status check_target(const SourceView& source, const Options& options, const TargetView& target, const char* name) {
-  const int width = source.depth.width - 2 * options.guard;
-  const int height = source.depth.height;
+  const DepthBuffer source_depth = detail::depth_buffer_of(source);
+  const int width = source_depth.width - 2 * options.guard;
+  const int height = source_depth.height;
   char label[64];
   std::snprintf(label, sizeof label, "%s colour", name);
   Status status = check_color(target.color, width, height, label);
   if (!status.ok()) return status;
+  if (target.color.format != source.color.format)
+    return Status(StatusCode::size_mismatch, "%s: format %s, the source's is %s", label, to_string(target.color.format),
+                  to_string(source.color.format));
   if (target.color.layout != source.color.layout || target.color.channels != source.color.channels)
     return Status(StatusCode::size_mismatch, "%s: %d channels %s, the source has %d %s", label, target.color.channels,
                   target.color.layout == ColorLayout::planar ? "planar" : "interleaved",
                   source.color.channels, source.color.layout == ColorLayout::planar ? "planar" : "interleaved");
+  if (!(status = check_one_depth(target, name)).ok()) return status;
   if (target.depth.data) {
     std::snprintf(label, sizeof label, "%s depth", name);
+    if (source_depth.format != DepthFormat::float32)
+      return Status(StatusCode::size_mismatch, "%s: a float plane, but the source depth is %s: output depth goes to "
+                    "depth_buffer in the source's format", label, to_string(source_depth.format));
     if (!(status = check_plane(target.depth, width, height, 1, label)).ok()) return status;
+  }
+  if (target.depth_buffer.data) {
+    std::snprintf(label, sizeof label, "%s depth_buffer", name);
+    if (target.depth_buffer.format != source_depth.format)
+      return Status(StatusCode::size_mismatch, "%s: format %s, the source depth is %s", label,
+                    to_string(target.depth_buffer.format), to_string(source_depth.format));
+    if (!(status = check_depth_buffer(target.depth_buffer, width, height, label)).ok()) return status;
   }
   if (target.status.data) {
     std::snprintf(label, sizeof label, "%s status", name);
@@ -161,19 +234,15 @@ Status check_target(const SourceView& source, const Options& options, const Targ
 Status check_aliasing(const SourceView& source, const TargetView* const* targets, int target_count) {
   ByteRange inputs[5];
   int input_count = 0;
-  const bool source_interleaved = source.color.layout == ColorLayout::interleaved_rgba;
-  inputs[input_count++] = span_of(source.depth, 1, "source depth");
-  for (int c = 0; c < (source_interleaved ? 1 : source.color.channels); ++c)
-    inputs[input_count++] = span_of(source.color.plane[c], source_interleaved ? 4 : 1, "source colour");
+  inputs[input_count++] = span_of(detail::depth_buffer_of(source), "source depth");
+  input_count += colour_spans(source.color, inputs + input_count, "source colour");
 
   ByteRange outputs[16];
   int output_count = 0;
   for (int i = 0; i < target_count; ++i) {
     const TargetView& target = *targets[i];
-    const bool interleaved = target.color.layout == ColorLayout::interleaved_rgba;
-    for (int c = 0; c < (interleaved ? 1 : target.color.channels); ++c)
-      outputs[output_count++] = span_of(target.color.plane[c], interleaved ? 4 : 1, "target colour");
-    outputs[output_count++] = span_of(target.depth, 1, "target depth");
+    output_count += colour_spans(target.color, outputs + output_count, "target colour");
+    outputs[output_count++] = span_of(detail::depth_buffer_of(target), "target depth");
     outputs[output_count++] = span_of(target.status, 1, "target status");
     outputs[output_count++] = span_of(target.source_x, 1, "target source_x");
   }
@@ -193,7 +262,10 @@ const detail::KernelTable& kernels_for(const Options& options) {
   return *detail::compiled_kernels(options.arch ? *options.arch : selected_arch());
 }
 
-bool empty_frame(const SourceView& source) { return source.depth.width == 0 || source.depth.height == 0; }
+bool empty_frame(const SourceView& source) {
+  const DepthBuffer depth = detail::depth_buffer_of(source);
+  return depth.width == 0 || depth.height == 0;
+}
 
 // ---- Rows over threads --------------------------------------------------------------------------
 // A call runs in at most two parallel phases over bands of contiguous rows: the default near

@@ -230,8 +230,9 @@ TEST(PairDecode, LeftEyeIsTheNegatedRightEyeBitForBit) {
         const detail::Frame fr = detail::plan_frame(source, decoder, right, Options(), target);
         const detail::Frame fl = detail::plan_frame(source, decoder, left, Options(), target);
         std::vector<float> pr(depth.size()), pl(depth.size());
-        kernels.decode(fr, depth.data(), pr.data());
-        kernels.decode(fl, depth.data(), pl.data());
+        const auto* depth_bytes = reinterpret_cast<const std::uint8_t*>(depth.data());
+        kernels.decode(fr, depth_bytes, pr.data(), nullptr);
+        kernels.decode(fl, depth_bytes, pl.data(), nullptr);
         for (int i = 0; i < width; ++i) {
           const float negated = 0.0f - pr[static_cast<std::size_t>(i)];
           ++compared;

@@ -1,0 +1,505 @@
+// Engine-native pixel formats (reproject/formats.hpp, docs/BEHAVIOUR.md "Pixel formats"):
+//  * the conversions, exhaustively where cheap (every half, every D16 code, a dense D24 sweep,
+//    the seed's packed-RGBA8 depth round trip, sRGB against double precision);
+//  * every method x arch x format: SIMD bit-identical to the scalar reference, 1 thread = 2;
+//  * every method x format against the float path on the same frame: identical status and
+//    source x, colour and depth within 1 LSB of the float result rounded into the format.
+#include <gtest/gtest.h>
+#include <immintrin.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "kernels/dispatch.hpp"
+#include "reproject/reproject.hpp"
+
+namespace reproject {
+namespace {
+
+float bits_float(std::uint32_t b) {
+  float f;
+  std::memcpy(&f, &b, 4);
+  return f;
+}
+std::uint32_t float_bits(float f) {
+  std::uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return b;
+}
+
+// ---- conversions ----------------------------------------------------------------------------
+
+__attribute__((target("f16c"))) float f16c_to_float(std::uint16_t h) {
+  return _mm_cvtss_f32(_mm_cvtph_ps(_mm_cvtsi32_si128(h)));
+}
+__attribute__((target("f16c"))) std::uint16_t f16c_to_half(float f) {
+  return static_cast<std::uint16_t>(_mm_extract_epi16(_mm_cvtps_ph(_mm_set_ss(f), _MM_FROUND_TO_NEAREST_INT), 0));
+}
+
+TEST(PixelFormats, HalfConversionsMatchF16C) {
+  if (!__builtin_cpu_supports("f16c")) GTEST_SKIP() << "no F16C on this CPU to compare with";
+  long compared = 0;
+  for (std::uint32_t h = 0; h < 65536; ++h) {
+    const float mine = formats::half_to_float(static_cast<std::uint16_t>(h));
+    ASSERT_EQ(float_bits(mine), float_bits(f16c_to_float(static_cast<std::uint16_t>(h)))) << "half " << h;
+    // Every half's value, and the midpoints around it (the ties), back to half.
+    for (std::uint32_t step : {0u, 0x1000u, 0xfffu, 0x1001u, 0x2000u}) {
+      const float f = bits_float(float_bits(mine) + step);
+      ASSERT_EQ(formats::float_to_half(f), f16c_to_half(f)) << "float " << f << " bits " << std::hex << float_bits(f);
+      compared += 2;
+    }
+  }
+  std::mt19937 rng(3);
+  for (int i = 0; i < 4000000; ++i) {
+    const float f = bits_float(static_cast<std::uint32_t>(rng()));
+    ASSERT_EQ(formats::float_to_half(f), f16c_to_half(f)) << "float bits " << std::hex << float_bits(f);
+    ++compared;
+  }
+  std::printf("half: %ld conversions equal to F16C\n", compared);
+}
+
+TEST(PixelFormats, Unorm16EveryCode) {
+  for (std::uint32_t u = 0; u < 65536; ++u) {
+    const float d = formats::unorm_to_float(u, 16);
+    ASSERT_EQ(d, static_cast<float>(static_cast<double>(u) / 65535.0)) << u;  // correctly rounded
+    ASSERT_EQ(formats::float_to_unorm(d, 16), u) << u;
+  }
+  EXPECT_EQ(formats::float_to_unorm(-1.0f, 16), 0u);
+  EXPECT_EQ(formats::float_to_unorm(2.0f, 16), 65535u);
+  EXPECT_EQ(formats::float_to_unorm(std::numeric_limits<float>::quiet_NaN(), 16), 0u);
+  // Ties to even: 0.5 / 65535 and 1.5 / 65535 (exact halves in float at this scale).
+  EXPECT_EQ(formats::float_to_unorm(static_cast<float>(2.5 / 65535.0), 16), 2u);
+}
+
+TEST(PixelFormats, Unorm24DenseSweep) {
+  long checked = 0, off = 0;
+  for (std::uint32_t u = 0; u < (1u << 24); u += (u < 70000 || u > (1u << 24) - 70000) ? 1 : 7) {
+    const float d = formats::unorm_to_float(u, 24);
+    ASSERT_EQ(d, static_cast<float>(static_cast<double>(u) / 16777215.0)) << u;
+    const std::uint32_t back = formats::float_to_unorm(d, 24);
+    // A float has 24 significant bits: near 1 the round trip can land one code off.
+    ASSERT_LE(back > u ? back - u : u - back, 1u) << u;
+    off += back != u;
+    ++checked;
+  }
+  std::printf("unorm24: %ld codes, %ld round trips one code off\n", checked, off);
+  EXPECT_LT(off, checked / 100);
+}
+
+// The seed's shader packing (EncUnitRangeToRGBA8) as a GPU evaluates it in float, the R, G, B
+// channels quantised by an UNORM8 render target (round to nearest).
+void seed_pack(float v, std::uint8_t rgb[3]) {
+  const float scaled[4] = {v, v * 255.0f, v * 65025.0f, v * 16581375.0f};
+  float enc[4];
+  for (int i = 0; i < 4; ++i) enc[i] = scaled[i] - std::floor(scaled[i]);
+  for (int i = 0; i < 3; ++i) enc[i] -= enc[i + 1] * (1.0f / 255.0f);
+  for (int i = 0; i < 3; ++i) rgb[i] = static_cast<std::uint8_t>(std::lround(std::min(std::max(enc[i], 0.0f), 1.0f) * 255.0f));
+}
+
+TEST(PixelFormats, PackedLinearRoundTrip) {
+  constexpr double kStep = 1.0 / 16581375.0;  // the three bytes' resolution
+  double worst_seed = 0.0, worst_own = 0.0;
+  for (int i = 0; i < 2000000; ++i) {
+    const float v = static_cast<float>(i) / 2000000.0f + 1.3e-8f * static_cast<float>(i % 7);
+    std::uint8_t rgb[3];
+    seed_pack(v, rgb);
+    worst_seed = std::max(worst_seed, std::fabs(formats::packed_linear_value(rgb) - static_cast<double>(v)));
+    formats::pack_linear_value(v, rgb);
+    worst_own = std::max(worst_own, std::fabs(formats::packed_linear_value(rgb) - static_cast<double>(v)));
+  }
+  std::printf("packed linear: worst |decode - v| seed packing %.3f steps, own %.3f steps\n", worst_seed / kStep,
+              worst_own / kStep);
+  // The seed's float evaluation loses what float cannot hold of v * 16581375 (and its B byte
+  // carries the rounding of the G step): within 2 steps of the three bytes, i.e. ~1.2e-7.
+  EXPECT_LT(worst_seed, 2.0 * kStep);
+  EXPECT_LT(worst_own, 1.0 * kStep);  // half a step plus float rounding of v
+}
+
+double srgb_decode_double(double e) { return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4); }
+double srgb_encode_double(double l) { return l <= 0.0031308 ? l * 12.92 : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055; }
+int srgb_byte_double(double l) {
+  l = std::min(std::max(l, 0.0), 1.0);
+  return static_cast<int>(std::floor(255.0 * srgb_encode_double(l) + 0.5));
+}
+
+TEST(PixelFormats, SrgbAgainstDoublePrecision) {
+  for (int k = 0; k < 256; ++k) {
+    ASSERT_EQ(formats::srgb_to_linear(static_cast<std::uint8_t>(k)), static_cast<float>(srgb_decode_double(k / 255.0))) << k;
+    ASSERT_EQ(formats::linear_to_srgb(formats::srgb_to_linear(static_cast<std::uint8_t>(k))), k) << k;
+  }
+  // Encoding: every float in [0, 1] with a mantissa step of 2^7 ulps (and values around it) is
+  // the double-precision byte exactly.
+  long encoded = 0;
+  for (std::uint32_t b = 0; b <= float_bits(1.0f); b += 128) {
+    const float l = bits_float(b);
+    ASSERT_EQ(formats::linear_to_srgb(l), srgb_byte_double(l)) << l;
+    ++encoded;
+  }
+  EXPECT_EQ(formats::linear_to_srgb(-0.5f), 0);
+  EXPECT_EQ(formats::linear_to_srgb(7.0f), 255);
+  EXPECT_EQ(formats::linear_to_srgb(std::numeric_limits<float>::quiet_NaN()), 0);
+  // Blending: the library's rule (the bytes' linear floats blended in float, then encoded)
+  // against the same blend in double: equal but where the float blend lands within rounding of
+  // a byte boundary.
+  std::mt19937 rng(11);
+  long blends = 0, differ = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    const int c0 = static_cast<int>(rng() % 256), c1 = static_cast<int>(rng() % 256);
+    const float frac = static_cast<float>(rng() % 4096) / 4096.0f;
+    const float l0 = formats::srgb_to_linear(static_cast<std::uint8_t>(c0));
+    const float l1 = formats::srgb_to_linear(static_cast<std::uint8_t>(c1));
+    const int mine = formats::linear_to_srgb(std::fma(frac, l1 - l0, l0));
+    const double exact = srgb_decode_double(c0 / 255.0) + frac * (srgb_decode_double(c1 / 255.0) - srgb_decode_double(c0 / 255.0));
+    const int reference = srgb_byte_double(exact);
+    ASSERT_LE(std::abs(mine - reference), 1) << c0 << " " << c1 << " " << frac;
+    differ += mine != reference;
+    ++blends;
+  }
+  std::printf("sRGB: %ld encodes exact; %ld blends, %ld one byte off the double reference\n", encoded, blends, differ);
+  EXPECT_LT(differ, blends / 1000);
+}
+
+// ---- frames in every format ---------------------------------------------------------------------
+
+struct FormatCase {
+  ColorFormat color;
+  DepthFormat depth;
+};
+
+// A frame with walls, slopes, flat runs and far background, in float (the reference) and in
+// the case's formats; the float frame holds exactly the values the formats decode to, so the
+// float path sees the same scene.
+struct Frames {
+  int width = 0, height = 0, guard = 0;
+  std::vector<float> depth_f, color_f;            // float depth; interleaved float RGBA
+  std::vector<std::uint8_t> depth_b, color_b;     // the same in the case's formats (+1 byte offset)
+  std::ptrdiff_t depth_stride = 0, color_stride = 0;  // bytes
+  float packed_near = 0.5f, packed_far = 40.0f;
+};
+
+Frames make_frames(std::mt19937& rng, int width, int height, const FormatCase& fc, const DepthDecoder& decoder) {
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  Frames fr;
+  fr.width = width;
+  fr.height = height;
+  const int dbpp = bytes_per_pixel(fc.depth), cbpp = bytes_per_pixel(fc.color);
+  fr.depth_stride = static_cast<std::ptrdiff_t>(width) * dbpp + 6;
+  fr.color_stride = static_cast<std::ptrdiff_t>(width) * cbpp + 12;
+  fr.depth_f.assign(static_cast<std::size_t>(width) * height, 0.0f);
+  fr.color_f.assign(static_cast<std::size_t>(width) * height * 4, 0.0f);
+  fr.depth_b.assign(static_cast<std::size_t>(fr.depth_stride) * height + 8, 0);
+  fr.color_b.assign(static_cast<std::size_t>(fr.color_stride) * height + 8, 0);
+  for (int y = 0; y < height; ++y) {
+    int x = 0;
+    while (x < width) {
+      const bool flat = unit(rng) < 0.3f;
+      const int length = 1 + static_cast<int>(unit(rng) * (flat ? 40.0f : 12.0f));
+      const double z0 = unit(rng) < 0.2f ? 30.0 : 1.5 + 20.0 * unit(rng);
+      const double slope = flat ? 0.0 : (unit(rng) - 0.5) * 0.5;
+      for (int k = 0; k < length && x < width; ++k, ++x) {
+        const double z = std::max(1.2, std::min(38.0, z0 + slope * k));
+        std::uint8_t* word = fr.depth_b.data() + 1 + y * fr.depth_stride + static_cast<std::ptrdiff_t>(x) * dbpp;
+        const std::uint32_t stencil = static_cast<std::uint32_t>(x * 7 + y) & 0xffu;
+        float d = decoder.encode(z);
+        switch (fc.depth) {
+          case DepthFormat::float32: std::memcpy(word, &d, 4); break;
+          case DepthFormat::unorm16: {
+            const std::uint16_t u = static_cast<std::uint16_t>(formats::float_to_unorm(d, 16));
+            std::memcpy(word, &u, 2);
+            d = formats::unorm_to_float(u, 16);
+            break;
+          }
+          case DepthFormat::unorm24_s8:
+          case DepthFormat::s8_unorm24: {
+            const std::uint32_t u = formats::float_to_unorm(d, 24);
+            const std::uint32_t w = fc.depth == DepthFormat::unorm24_s8 ? (u | stencil << 24) : (u << 8 | stencil);
+            std::memcpy(word, &w, 4);
+            d = formats::unorm_to_float(u, 24);
+            break;
+          }
+          case DepthFormat::rgba8_packed_linear: {
+            // Linear depth: the decoder is linear, v spans [near, far].
+            const float v = static_cast<float>((z - fr.packed_near) / (fr.packed_far - fr.packed_near));
+            formats::pack_linear_value(v, word);
+            word[3] = static_cast<std::uint8_t>(stencil);
+            const float decoded = formats::packed_linear_value(word);
+            d = decoded * (fr.packed_far - fr.packed_near) + fr.packed_near;  // (-ffp-contract=off)
+            break;
+          }
+        }
+        fr.depth_f[static_cast<std::size_t>(y) * width + x] = d;
+      }
+    }
+    for (int x = 0; x < width; ++x) {
+      std::uint8_t* px = fr.color_b.data() + 1 + y * fr.color_stride + static_cast<std::ptrdiff_t>(x) * cbpp;
+      float* pf = fr.color_f.data() + (static_cast<std::size_t>(y) * width + x) * 4;
+      for (int c = 0; c < 4; ++c) {
+        const std::uint8_t byte = static_cast<std::uint8_t>(rng() & 0xff);
+        switch (fc.color) {
+          case ColorFormat::rgba8: px[c] = byte; pf[c] = byte; break;  // blended as byte values
+          case ColorFormat::rgba8_srgb:
+            px[c] = byte;
+            pf[c] = c < 3 ? formats::srgb_to_linear(byte) : static_cast<float>(byte);
+            break;
+          case ColorFormat::rgba16f: {
+            const std::uint16_t h = formats::float_to_half((unit(rng) - 0.2f) * 3.0f);
+            std::memcpy(px + 2 * c, &h, 2);
+            pf[c] = formats::half_to_float(h);
+            break;
+          }
+          case ColorFormat::float32: pf[c] = unit(rng); std::memcpy(px + 4 * c, &pf[c], 4); break;
+        }
+      }
+    }
+  }
+  return fr;
+}
+
+struct Outputs {
+  std::vector<std::uint8_t> color, depth, status;
+  std::vector<float> source_x;
+  std::ptrdiff_t color_stride = 0, depth_stride = 0;
+};
+
+// Runs the frame in its formats (native) or as float (the float path), outputs pre-filled.
+Status run(const detail::KernelTable* kernels, const Frames& fr, const FormatCase& fc, bool native,
+           const DepthDecoder& decoder, const ParallaxModel& model, const Options& options, Outputs& out) {
+  const int tw = fr.width - 2 * options.guard;
+  const int cbpp = native ? (fc.color == ColorFormat::float32 ? 16 : bytes_per_pixel(fc.color)) : 16;
+  const int dbpp = native ? bytes_per_pixel(fc.depth) : 4;
+  out.color_stride = static_cast<std::ptrdiff_t>(tw) * cbpp + 20;
+  out.depth_stride = static_cast<std::ptrdiff_t>(tw) * dbpp + 8;
+  out.color.assign(static_cast<std::size_t>(out.color_stride) * fr.height + 4, 0xab);
+  out.depth.assign(static_cast<std::size_t>(out.depth_stride) * fr.height + 4, 0xcd);
+  out.status.assign(static_cast<std::size_t>(tw) * fr.height, 99);
+  out.source_x.assign(static_cast<std::size_t>(tw) * fr.height, -7.0f);
+  SourceView source;
+  TargetView target;
+  if (native && fc.color != ColorFormat::float32) {
+    source.color = ColorView::packed(fc.color, fr.color_b.data() + 1, fr.width, fr.height, fr.color_stride);
+    target.color = MutableColorView::packed(fc.color, out.color.data(), tw, fr.height, out.color_stride);
+  } else {
+    source.color = ColorView::rgba(fr.color_f.data(), fr.width, fr.height, fr.width * 4);
+    target.color = MutableColorView::rgba(reinterpret_cast<float*>(out.color.data()), tw, fr.height, out.color_stride / 4);
+  }
+  if (native && fc.depth != DepthFormat::float32) {
+    source.depth_buffer = DepthBuffer::of(fc.depth, fr.depth_b.data() + 1, fr.width, fr.height, fr.depth_stride);
+    source.depth_buffer.linear_near = fr.packed_near;
+    source.depth_buffer.linear_far = fr.packed_far;
+    target.depth_buffer = MutableDepthBuffer::of(fc.depth, out.depth.data(), tw, fr.height, out.depth_stride);
+    target.depth_buffer.linear_near = fr.packed_near;  // (not read for outputs)
+  } else {
+    source.depth = FloatPlane{fr.depth_f.data(), fr.width, fr.height, fr.width};
+    target.depth = MutableFloatPlane{reinterpret_cast<float*>(out.depth.data()), tw, fr.height, out.depth_stride / 4};
+  }
+  target.status = BytePlane{out.status.data(), tw, fr.height, tw};
+  target.source_x = MutableFloatPlane{out.source_x.data(), tw, fr.height, tw};
+  if (kernels) return detail::reproject_with(*kernels, source, decoder, model, options, target);
+  return reproject(source, decoder, model, options, target);
+}
+
+const FormatCase kCases[] = {
+    {ColorFormat::rgba8, DepthFormat::unorm24_s8},      {ColorFormat::rgba8_srgb, DepthFormat::float32},
+    {ColorFormat::rgba16f, DepthFormat::float32},       {ColorFormat::rgba8, DepthFormat::unorm16},
+    {ColorFormat::rgba8_srgb, DepthFormat::s8_unorm24}, {ColorFormat::rgba16f, DepthFormat::rgba8_packed_linear},
+    {ColorFormat::float32, DepthFormat::unorm16},
+};
+
+DepthDecoder decoder_for(const FormatCase& fc, int variant) {
+  if (fc.depth == DepthFormat::rgba8_packed_linear || variant % 2) return DepthDecoder::linear();
+  return DepthDecoder::from_near_far(DepthEncoding::standard, 1.0, 40.0);
+}
+
+Options options_for(Method method, int variant, int width) {
+  Options o;
+  o.method = method;
+  o.guard = variant & 2 && width > 20 ? 4 : 0;
+  o.hole_fill = static_cast<HoleFill>(variant % 3);
+  o.edge = static_cast<EdgeMode>((variant / 2) % 4);
+  if (variant % 5 == 3) o.max_negative_parallax = 2.0f;  // clipping
+  o.threads = 1;
+  return o;
+}
+
+ParallaxModel model_for(int variant) { return variant % 4 == 1 ? ParallaxModel{-6.0f, 40.0f} : ParallaxModel{6.0f, -40.0f}; }
+
+class FormatsEveryArch : public ::testing::TestWithParam<Arch> {};
+
+TEST_P(FormatsEveryArch, SimdMatchesScalarAndThreads) {
+  const Arch arch = GetParam();
+  if (!arch_supported(arch)) GTEST_SKIP() << to_string(arch) << " is not supported by this CPU";
+  const detail::KernelTable& simd = *detail::compiled_kernels(arch);
+  const detail::KernelTable& reference = detail::reference_kernels(arch);
+  std::mt19937 rng(static_cast<unsigned>(arch) + 101u);
+  long runs = 0;
+  for (const FormatCase& fc : kCases) {
+    for (int width : {1, 7, 16, 17, 33, 64, 129}) {
+      for (int variant = 0; variant < 6; ++variant) {
+        const DepthDecoder decoder = decoder_for(fc, variant);
+        const Frames fr = make_frames(rng, width, 3, fc, decoder);
+        for (int m = 0; m < kMethodCount; ++m) {
+          const Options options = options_for(static_cast<Method>(m), variant, width);
+          Outputs a, b;
+          ASSERT_TRUE(run(&simd, fr, fc, true, decoder, model_for(variant), options, a).ok());
+          ASSERT_TRUE(run(&reference, fr, fc, true, decoder, model_for(variant), options, b).ok());
+          const auto where = [&] {
+            return std::string(to_string(fc.color)) + "+" + to_string(fc.depth) + " " + to_string(static_cast<Method>(m)) +
+                   " width " + std::to_string(width) + " variant " + std::to_string(variant);
+          };
+          ASSERT_EQ(a.color, b.color) << where();
+          ASSERT_EQ(a.depth, b.depth) << where();
+          ASSERT_EQ(a.status, b.status) << where();
+          ASSERT_EQ(0, std::memcmp(a.source_x.data(), b.source_x.data(), a.source_x.size() * 4)) << where();
+          ++runs;
+        }
+      }
+    }
+  }
+  // 1 thread = 2 threads, through the public entry point, on a frame tall enough to split.
+  for (const FormatCase& fc : kCases) {
+    const DepthDecoder decoder = decoder_for(fc, 0);
+    const Frames fr = make_frames(rng, 97, 40, fc, decoder);
+    for (int m = 0; m < kMethodCount; ++m) {
+      Options options = options_for(static_cast<Method>(m), 0, 97);
+      options.arch = arch;
+      Outputs one, two;
+      ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, model_for(0), options, one).ok());
+      options.threads = 2;
+      ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, model_for(0), options, two).ok());
+      ASSERT_EQ(one.color, two.color);
+      ASSERT_EQ(one.depth, two.depth);
+      ASSERT_EQ(one.status, two.status);
+    }
+  }
+  std::printf("formats: %s: %ld runs bit-identical to the scalar reference\n", to_string(arch), runs);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryArch, FormatsEveryArch, ::testing::Values(Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512),
+                         [](const ::testing::TestParamInfo<Arch>& info) { return std::string(to_string(info.param)); });
+
+// The native formats against the float path on the same frame (the float frame holds the values
+// the formats decode to): the search sees the same parallax, so status and source x are
+// identical; colour and depth differ only by the formats' rounding.
+TEST(PixelFormats, NativeMatchesTheFloatPath) {
+  std::mt19937 rng(77);
+  long pixels = 0, colour_off = 0, depth_off = 0;
+  for (const FormatCase& fc : kCases) {
+    for (int variant = 0; variant < 6; ++variant) {
+      const DepthDecoder decoder = decoder_for(fc, variant);
+      const Frames fr = make_frames(rng, 150, 6, fc, decoder);
+      for (int m = 0; m < kMethodCount; ++m) {
+        Options options = options_for(static_cast<Method>(m), variant, 150);
+        options.edge = options.edge == EdgeMode::none ? EdgeMode::clamp : options.edge;  // every pixel written
+        options.hole_fill = options.hole_fill == HoleFill::none ? HoleFill::background : options.hole_fill;
+        Outputs native, floats;
+        ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, model_for(variant), options, native).ok());
+        ASSERT_TRUE(run(nullptr, fr, fc, false, decoder, model_for(variant), options, floats).ok());
+        ASSERT_EQ(native.status, floats.status) << to_string(fc.color) << "+" << to_string(fc.depth) << " method " << m;
+        ASSERT_EQ(0, std::memcmp(native.source_x.data(), floats.source_x.data(), native.source_x.size() * 4));
+        const int tw = 150 - 2 * options.guard;
+        for (int y = 0; y < 6; ++y) {
+          for (int t = 0; t < tw; ++t) {
+            const float* f = reinterpret_cast<const float*>(floats.color.data() + y * floats.color_stride) + 4 * t;
+            const std::uint8_t* n = native.color.data() + y * native.color_stride;
+            for (int c = 0; c < 4; ++c) {
+              int diff = 0;
+              switch (fc.color) {
+                case ColorFormat::rgba8: diff = std::abs(n[4 * t + c] - static_cast<int>(std::lround(f[c]))); break;
+                case ColorFormat::rgba8_srgb:
+                  diff = std::abs(n[4 * t + c] - (c < 3 ? formats::linear_to_srgb(f[c]) : static_cast<int>(std::lround(f[c]))));
+                  break;
+                case ColorFormat::rgba16f: {  // the same blend, rounded once to half: equal
+                  std::uint16_t h;
+                  std::memcpy(&h, n + 8 * t + 2 * c, 2);
+                  diff = h != formats::float_to_half(f[c]) ? 2 : 0;
+                  break;
+                }
+                case ColorFormat::float32: diff = std::memcmp(n + 16 * t + 4 * c, f + c, 4) != 0 ? 2 : 0; break;
+              }
+              ASSERT_LE(diff, 1) << to_string(fc.color) << " method " << m << " pixel " << t << " channel " << c;
+              colour_off += diff != 0;
+            }
+            const float fd = reinterpret_cast<const float*>(floats.depth.data() + y * floats.depth_stride)[t];
+            const std::uint8_t* nd = native.depth.data() + y * native.depth_stride;
+            long code = 0, expected = 0;
+            switch (fc.depth) {
+              case DepthFormat::float32: code = float_bits(reinterpret_cast<const float*>(nd)[t]); expected = float_bits(fd); break;
+              case DepthFormat::unorm16: {
+                std::uint16_t u;
+                std::memcpy(&u, nd + 2 * t, 2);
+                code = u;
+                expected = formats::float_to_unorm(fd, 16);
+                break;
+              }
+              case DepthFormat::unorm24_s8:
+              case DepthFormat::s8_unorm24: {
+                std::uint32_t w;
+                std::memcpy(&w, nd + 4 * t, 4);
+                code = fc.depth == DepthFormat::unorm24_s8 ? (w & 0xffffff) : (w >> 8);
+                expected = formats::float_to_unorm(fd, 24);
+                break;
+              }
+              case DepthFormat::rgba8_packed_linear: {
+                code = std::lround(static_cast<double>(formats::packed_linear_value(nd + 4 * t)) * 16581375.0);
+                expected = std::lround((fd - fr.packed_near) / (fr.packed_far - fr.packed_near) * 16581375.0);
+                break;
+              }
+            }
+            ASSERT_LE(std::labs(code - expected), 1) << to_string(fc.depth) << " method " << m << " pixel " << t;
+            depth_off += code != expected;
+            ++pixels;
+          }
+        }
+      }
+    }
+  }
+  std::printf("native vs float path: %ld pixels, identical status and x; %ld channels and %ld depths one LSB off\n",
+              pixels, colour_off, depth_off);
+}
+
+TEST(PixelFormats, ClearErrors) {
+  std::vector<std::uint8_t> bytes(64 * 4 * 8), out(64 * 4 * 8);
+  std::vector<float> depth(64 * 8);
+  SourceView source;
+  source.color = ColorView::packed(ColorFormat::rgba8, bytes.data(), 64, 8, 64 * 4);
+  source.depth = FloatPlane{depth.data(), 64, 8, 64};
+  TargetView target;
+  target.color = MutableColorView::packed(ColorFormat::rgba8_srgb, out.data(), 64, 8, 64 * 4);
+  const DepthDecoder decoder = DepthDecoder::linear();
+  Status s = reproject(source, decoder, ParallaxModel{1.0f, -1.0f}, Options(), target);
+  EXPECT_EQ(s.code(), StatusCode::size_mismatch);
+  EXPECT_NE(std::string(s.message()).find("rgba8_srgb"), std::string::npos) << s.message();
+  target.color.format = ColorFormat::rgba8;
+  target.color.pixels.stride = 100;  // < 64 * 4 bytes
+  s = reproject(source, decoder, ParallaxModel{1.0f, -1.0f}, Options(), target);
+  EXPECT_EQ(s.code(), StatusCode::invalid_stride) << s.message();
+  target.color.pixels.stride = 256;
+  source.depth_buffer = DepthBuffer::of(DepthFormat::unorm16, bytes.data(), 64, 8, 128);
+  s = reproject(source, decoder, ParallaxModel{1.0f, -1.0f}, Options(), target);
+  EXPECT_EQ(s.code(), StatusCode::invalid_option) << s.message();  // both depths set
+  source.depth = FloatPlane{};
+  target.depth = MutableFloatPlane{depth.data(), 64, 8, 64};
+  s = reproject(source, decoder, ParallaxModel{1.0f, -1.0f}, Options(), target);
+  EXPECT_EQ(s.code(), StatusCode::size_mismatch) << s.message();  // float output for D16 input
+  target.depth = MutableFloatPlane{};
+  source.depth_buffer.format = static_cast<DepthFormat>(9);
+  s = reproject(source, decoder, ParallaxModel{1.0f, -1.0f}, Options(), target);
+  EXPECT_EQ(s.code(), StatusCode::invalid_option) << s.message();
+  source.depth_buffer = DepthBuffer::packed_linear(bytes.data(), 64, 8, 256, 2.0f, 2.0f);
+  s = reproject(source, decoder, ParallaxModel{1.0f, -1.0f}, Options(), target);
+  EXPECT_EQ(s.code(), StatusCode::invalid_option) << s.message();
+  source.depth_buffer = DepthBuffer::of(DepthFormat::unorm16, bytes.data() + 2, 64, 8, 128);  // overlaps colour
+  s = reproject(source, decoder, ParallaxModel{1.0f, -1.0f}, Options(), target);
+  EXPECT_TRUE(s.ok()) << s.message();  // inputs may overlap each other
+  target.depth_buffer = MutableDepthBuffer::of(DepthFormat::unorm16, bytes.data(), 64, 8, 128);  // an input
+  s = reproject(source, decoder, ParallaxModel{1.0f, -1.0f}, Options(), target);
+  EXPECT_EQ(s.code(), StatusCode::aliasing) << s.message();
+}
+
+}  // namespace
+}  // namespace reproject
