@@ -193,6 +193,7 @@ struct RawDepth {
 
   std::ptrdiff_t stride() const noexcept { return static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(format); }
   DepthBuffer view() const noexcept;
+  MutableDepthBuffer mutable_view() noexcept;  // an output buffer
 };
 
 struct Frame {

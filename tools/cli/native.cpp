@@ -224,10 +224,17 @@ void check_depth_output(const char* flag, const std::string& path, const NativeS
 }
 
 DepthBuffer RawDepth::view() const noexcept {
-  if (format == DepthFormat::rgba8_packed_linear) {
-    return DepthBuffer::packed_linear(bytes.data(), width, height, stride(), linear_near, linear_far);
-  }
-  return DepthBuffer::of(format, bytes.data(), width, height, stride());
+  DepthBuffer view = DepthBuffer::of(format, bytes.data(), width, height, stride());
+  view.linear_near = linear_near;  // read by rgba8_packed_linear only
+  view.linear_far = linear_far;
+  return view;
+}
+
+MutableDepthBuffer RawDepth::mutable_view() noexcept {
+  MutableDepthBuffer view = MutableDepthBuffer::of(format, bytes.data(), width, height, stride());
+  view.linear_near = linear_near;
+  view.linear_far = linear_far;
+  return view;
 }
 
 ColorView Frame::color_view() const noexcept { return native_color() ? packed_color.view() : color.image.color(); }

@@ -28,6 +28,7 @@ struct EyeBuffers {
   int width = 0, height = 0;
 
   EyeBuffers(int w, int h, const Frame& frame, bool want_source_x) : width(w), height(h) {
+    bool allocated = true;
     try {
       status.resize(static_cast<std::size_t>(w) * h);
       if (frame.native_color()) {
@@ -40,37 +41,28 @@ struct EyeBuffers {
         color = Image(w, h, frame.color_channels());
       }
       if (frame.native_depth()) {
-        raw_depth = frame.raw_depth;  // format and range; then the target's size
+        raw_depth = frame.raw_depth;  // the format and range; then the target's size
         raw_depth.width = w;
         raw_depth.height = h;
         raw_depth.bytes.assign(static_cast<std::size_t>(raw_depth.stride()) * h, 0);
       } else {
         depth = Image(w, h, 1);
       }
+      if (want_source_x) source_x = Image(w, h, 1);
     } catch (const std::bad_alloc&) {
-      color = Image();  // reported below
+      allocated = false;
     }
-    if (want_source_x) source_x = Image(w, h, 1);
-    if ((!frame.native_color() && color.empty()) || (frame.native_color() && packed.bytes.empty()) ||
-        (!frame.native_depth() && depth.empty()) || (frame.native_depth() && raw_depth.bytes.empty()) ||
-        status.empty() || (want_source_x && source_x.empty())) {
-      fail(kExitRuntime, "out of memory for a " + std::to_string(w) + "x" + std::to_string(h) + " target");
-    }
+    allocated = allocated && (frame.native_color() || !color.empty()) && (frame.native_depth() || !depth.empty()) &&
+                (!want_source_x || !source_x.empty());
+    if (!allocated) fail(kExitRuntime, "out of memory for a " + std::to_string(w) + "x" + std::to_string(h) + " target");
   }
   TargetView view() {
     TargetView t;
-    const int w = width, h = height;
     if (!packed.bytes.empty()) t.color = packed.mutable_view();
     else t.color = color.mutable_color();
-    if (!raw_depth.bytes.empty()) {
-      const DepthBuffer d = raw_depth.view();
-      t.depth_buffer = MutableDepthBuffer::of(d.format, raw_depth.bytes.data(), w, h, d.stride);
-      t.depth_buffer.linear_near = d.linear_near;
-      t.depth_buffer.linear_far = d.linear_far;
-    } else {
-      t.depth = depth.mutable_plane();
-    }
-    t.status = BytePlane{status.data(), w, h, w};
+    if (!raw_depth.bytes.empty()) t.depth_buffer = raw_depth.mutable_view();
+    else t.depth = depth.mutable_plane();
+    t.status = BytePlane{status.data(), width, height, width};
     if (!source_x.empty()) t.source_x = source_x.mutable_plane();
     return t;
   }
