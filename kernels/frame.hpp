@@ -77,8 +77,8 @@ struct RowScratch {
   std::vector<float> owner_storage;
   std::vector<float> block_min;  // `secant`: min/max key per block of columns (secant.hpp)
   std::vector<float> block_max;
-  // The stored depth values d of the row (depth formats other than float32, when the output
-  // depth is asked for): the decode writes them, the resolve interpolates them.
+  // The stored depth values d of a D16 row (when the output depth is asked for): the SIMD
+  // decode writes them, the SIMD resolve interpolates them (16-bit columns do not fit its plan).
   std::vector<float> stored_depth;
   const float* parallax = nullptr;  // column 0 of the padded row
 };

@@ -64,6 +64,51 @@ IntLanes<Arch> load_u16(const std::uint8_t* p) {
   }
 }
 
+// u / (2^Bits - 1) correctly rounded (scalar twin: unorm_value, a division). Where the table has
+// an FMA, without the division: with x = u 2^-Bits (exact), fma(x, c, x) for c the float just
+// above 2^-Bits is the correctly rounded quotient for every 16- and 24-bit code (u / (2^b - 1) =
+// x (1 + 2^-b + 2^-2b + ...); checked exhaustively by PixelFormats.UnormDecodeEveryCodeEveryArch).
+template <class Arch, class Fma, int Bits>
+xsimd::batch<float, Arch> unorm_values(const IntLanes<Arch>& code) {
+  using F = typename Lanes<Arch>::F;
+  constexpr float kMax = Bits == 16 ? kUnorm16Max : kUnorm24Max;
+  if constexpr (std::is_same<Fma, Fused>::value) {
+    constexpr float kUnit = Bits == 16 ? 0x1p-16f : 0x1p-24f;
+    constexpr float kAbove = Bits == 16 ? 0x1.000002p-16f : 0x1.000002p-24f;
+    const F x = xsimd::to_float(code) * F(kUnit);
+    return vmadd<Fma>(x, F(kAbove), x);
+  } else {
+    return xsimd::to_float(code) / F(kMax);
+  }
+}
+
+// The stored values d of L depth words of a 32-bit format (scalar twin: depth_value).
+template <class Arch, class Fma, DepthFormat Format>
+xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<Arch>& word) {
+  using F = typename Lanes<Arch>::F;
+  using I = IntLanes<Arch>;
+  if constexpr (Format == DepthFormat::float32) return float_bits<Arch>(word);
+  if constexpr (Format == DepthFormat::unorm24_s8) return unorm_values<Arch, Fma, 24>(word & I(0xffffff));
+  if constexpr (Format == DepthFormat::s8_unorm24) return unorm_values<Arch, Fma, 24>((word >> 8) & I(0xffffff));
+  if constexpr (Format == DepthFormat::rgba8_packed_linear) {
+    const I code = (word & I(0xff)) * I(65025) + ((word >> 8) & I(0xff)) * I(255) + ((word >> 16) & I(0xff));
+    return (xsimd::to_float(code) / F(kPackedMax)) * F(f.packed_range) + F(f.packed_near);  // never fused
+  }
+  if constexpr (Format == DepthFormat::unorm16) return F(0.0f);  // 16-bit: not words (load_depth_values)
+}
+template <class Arch, class Fma>
+__attribute__((always_inline)) inline xsimd::batch<float, Arch> depth_values_of_words(const Frame& f,
+                                                                                    const IntLanes<Arch>& word) {
+  switch (f.depth.format) {
+    case DepthFormat::unorm24_s8: return depth_values_of_words<Arch, Fma, DepthFormat::unorm24_s8>(f, word);
+    case DepthFormat::s8_unorm24: return depth_values_of_words<Arch, Fma, DepthFormat::s8_unorm24>(f, word);
+    case DepthFormat::rgba8_packed_linear: return depth_values_of_words<Arch, Fma, DepthFormat::rgba8_packed_linear>(f, word);
+    case DepthFormat::unorm16:
+    case DepthFormat::float32: break;
+  }
+  return float_bits<Arch>(word);
+}
+
 // The stored values d of columns [i, i + L) of a depth row (scalar twin: depth_value).
 template <class Arch, class Fma, DepthFormat Format>
 xsimd::batch<float, Arch> load_depth_values(const Frame& f, const std::uint8_t* row, int i) {
@@ -72,15 +117,10 @@ xsimd::batch<float, Arch> load_depth_values(const Frame& f, const std::uint8_t* 
   if constexpr (Format == DepthFormat::float32) {
     return F::load_unaligned(reinterpret_cast<const float*>(row) + i);
   } else if constexpr (Format == DepthFormat::unorm16) {
-    return xsimd::to_float(load_u16<Arch>(row + 2 * static_cast<std::ptrdiff_t>(i))) / F(kUnorm16Max);
+    return unorm_values<Arch, Fma, 16>(load_u16<Arch>(row + 2 * static_cast<std::ptrdiff_t>(i)));
   } else {
     const I word = I::load_unaligned(reinterpret_cast<const std::int32_t*>(row + 4 * static_cast<std::ptrdiff_t>(i)));
-    if constexpr (Format == DepthFormat::unorm24_s8) return xsimd::to_float(word & I(0xffffff)) / F(kUnorm24Max);
-    if constexpr (Format == DepthFormat::s8_unorm24) return xsimd::to_float((word >> 8) & I(0xffffff)) / F(kUnorm24Max);
-    if constexpr (Format == DepthFormat::rgba8_packed_linear) {
-      const I code = (word & I(0xff)) * I(65025) + ((word >> 8) & I(0xff)) * I(255) + ((word >> 16) & I(0xff));
-      return (xsimd::to_float(code) / F(kPackedMax)) * F(f.packed_range) + F(f.packed_near);  // never fused
-    }
+    return depth_values_of_words<Arch, Fma, Format>(f, word);
   }
 }
 
@@ -132,6 +172,24 @@ template <class Arch>
 void store_u16(const IntLanes<Arch>& codes, const xsimd::batch_bool<float, Arch>& write, bool masked, std::uint8_t* out) {
   using F = typename Lanes<Arch>::F;
   constexpr int L = Lanes<Arch>::size;
+#if defined(__AVX512F__)
+  if constexpr (L == 16) {
+    const __mmask16 lanes = masked ? static_cast<__mmask16>(write) : static_cast<__mmask16>(0xffff);
+    return _mm512_mask_cvtepi32_storeu_epi16(out, lanes, codes);
+  }
+#endif
+#if defined(__AVX2__)
+  if constexpr (L == 8) {
+    const __m256i c = codes;
+    __m128i packed = _mm_packus_epi32(_mm256_castsi256_si128(c), _mm256_extracti128_si256(c, 1));  // codes <= 65535
+    if (masked) {
+      const __m256i m = _mm256_castps_si256(static_cast<__m256>(write));
+      const __m128i keep = _mm_packs_epi32(_mm256_castsi256_si128(m), _mm256_extracti128_si256(m, 1));
+      packed = _mm_blendv_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(out)), packed, keep);
+    }
+    return _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packed);
+  }
+#endif
   alignas(64) std::int32_t code[L];
   alignas(64) float written[L];
   codes.store_aligned(code);

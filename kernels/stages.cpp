@@ -116,9 +116,7 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
   const ColorRow<Fma> color(f, y);
   const float* parallax = scratch.parallax;
   const std::uint8_t* depth_row = f.depth.row(y);
-  // Float depth is interpolated from the row itself, the other formats from the decode's values.
   const bool float_depth = f.depth.format == DepthFormat::float32;
-  const float* depth = float_depth ? reinterpret_cast<const float*>(depth_row) : scratch.stored_depth.data();
   std::uint8_t* depth_out = f.depth_out.data ? f.depth_out.row(y) : nullptr;
   const int depth_bytes = bytes_per_pixel(f.depth.format);
   std::uint8_t* status_out = f.target.status.data ? f.target.status.row(y) : nullptr;
@@ -168,7 +166,7 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
     if (write) {
       color.write(t, j0, j1, frac, black);
       if (depth_out) {
-        const float d = interpolate_depth<Fma>(f, depth[j0], depth[j1], frac);
+        const float d = interpolate_depth<Fma>(f, depth_value<Fma>(f, depth_row, j0), depth_value<Fma>(f, depth_row, j1), frac);
         const std::uint32_t word = depth_word(f, d, depth_bytes == 4 && !float_depth ? load_u32(depth_row + 4 * static_cast<std::ptrdiff_t>(j0)) : 0u);
         if (depth_bytes == 2) {
           const std::uint16_t code = static_cast<std::uint16_t>(word);

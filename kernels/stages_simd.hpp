@@ -137,10 +137,12 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   }
   const int pixel_bytes = format == ColorFormat::float32 ? (interleaved ? 16 : 4) : bytes_per_pixel(format);
   const float* parallax = scratch.parallax;
-  // Float depth is interpolated from the row itself, the other formats from the decode's values.
+  // Depth is interpolated from the row's own 32-bit columns (floats, or words decoded in
+  // registers), or for D16 from the values the decode kept.
   const std::uint8_t* depth_row = f.depth.row(y);
   const bool float_depth = f.depth.format == DepthFormat::float32;
-  const float* depth = float_depth ? reinterpret_cast<const float*>(depth_row) : scratch.stored_depth.data();
+  const bool depth_words_read = f.depth.format != DepthFormat::unorm16;
+  const float* depth = depth_words_read ? reinterpret_cast<const float*>(depth_row) : scratch.stored_depth.data();
   const int depth_bytes = bytes_per_pixel(f.depth.format);
   std::uint8_t* depth_out = f.depth_out.data ? f.depth_out.row(y) : nullptr;
   std::uint8_t* status_out = f.target.status.data ? f.target.status.row(y) : nullptr;
@@ -221,6 +223,11 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
       if (depth_out) {
         F d0, d1;
         fetch(depth, d0, d1);
+        const auto kept = bits_of<Arch>(d0);  // the word of column j0: its bits that are not depth
+        if (depth_words_read && !float_depth) {
+          d0 = depth_values_of_words<Arch, Fma>(f, kept);
+          d1 = depth_values_of_words<Arch, Fma>(f, bits_of<Arch>(d1));
+        }
         F d;
         if (f.affine) {
           d = vmadd<Fma>(frac, d1 - d0, d0);
@@ -232,10 +239,7 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
         if (float_depth) {
           store(out, d);
         } else {
-          // The source word of column j0 gives the bits that are not depth (stencil, A).
-          F kept0 = zero, kept1;
-          if (depth_bytes == 4) fetch(reinterpret_cast<const float*>(depth_row), kept0, kept1);
-          const auto words = depth_words<Arch>(f, d, bits_of<Arch>(kept0));
+          const auto words = depth_words<Arch>(f, d, kept);
           if (depth_bytes == 4) {
             store(out, float_bits<Arch>(words));
           } else {

@@ -4,7 +4,9 @@
 #   cmake -DOBJDUMP=<objdump> -DOBJECTS=<a.o|b.o|...> -DPOLICY=<policy> -P check_object_code.cmake
 # EXPECT (over the objects together):
 #   zmm | ymm | xmm  fused: at least one FMA on registers of that width, and no call into libm;
-#   unfused          no FMA of any width, and no call into libm.
+#                    zmm and ymm: rgba16f's conversions by F16C (vcvtph2ps, vcvtps2ph);
+#   unfused          no FMA of any width, no F16C instruction (the SSE set runs on CPUs without
+#                    it: rgba16f converts in software there), and no call into libm.
 cmake_policy(SET CMP0007 NEW)
 foreach(var OBJDUMP OBJECTS EXPECT)
   if(NOT DEFINED ${var})
@@ -43,6 +45,10 @@ string(REGEX MATCHALL
   libm_calls "${listing}")
 list(LENGTH libm_calls libm_count)
 
+# F16C half-float conversions.
+string(REGEX MATCHALL "[\t ]vcvt(ps2ph|ph2ps)[^\n]*" halves "${listing}")
+list(LENGTH halves half_count)
+
 string(REPLACE ";" ", " name "${names}")
 if(libm_count GREATER 0)
   list(REMOVE_DUPLICATES libm_calls)
@@ -54,13 +60,20 @@ if(EXPECT STREQUAL "unfused")
     list(GET fmas 0 first)
     message(FATAL_ERROR "${name}: built without FMA, yet holds ${fma_count} FMA instructions (first:${first})")
   endif()
+  if(half_count GREATER 0)
+    list(GET halves 0 first)
+    message(FATAL_ERROR "${name}: the SSE set holds ${half_count} F16C instructions (first:${first})")
+  endif()
   message(STATUS "${name}: no FMA, no libm call (policy unfused)")
 elseif(EXPECT STREQUAL "zmm" OR EXPECT STREQUAL "ymm" OR EXPECT STREQUAL "xmm")
   if(width_count EQUAL 0)
     message(FATAL_ERROR "${name}: fused policy, but no FMA on ${EXPECT} registers (${fma_count} FMAs of other widths): "
                         "a vector multiply-add is being computed with two roundings")
   endif()
-  message(STATUS "${name}: ${width_count} FMAs on ${EXPECT} registers (${fma_count} in all), no libm call")
+  if(NOT EXPECT STREQUAL "xmm" AND half_count EQUAL 0)
+    message(FATAL_ERROR "${name}: no F16C conversion: rgba16f is converting in software on a set that has F16C")
+  endif()
+  message(STATUS "${name}: ${width_count} FMAs on ${EXPECT} registers (${fma_count} in all), ${half_count} F16C conversions, no libm call")
 else()
   message(FATAL_ERROR "unknown EXPECT '${EXPECT}'")
 endif()

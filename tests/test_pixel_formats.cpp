@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "kernels/dispatch.hpp"
+#include "kernels/frame_rows.hpp"
 #include "reproject/reproject.hpp"
 
 namespace reproject {
@@ -89,6 +90,50 @@ TEST(PixelFormats, Unorm24DenseSweep) {
   }
   std::printf("unorm24: %ld codes, %ld round trips one code off\n", checked, off);
   EXPECT_LT(off, checked / 100);
+}
+
+// The kernels' own depth loads (the SIMD decode computes u / (2^b - 1) without a division where
+// it has an FMA): every D16 and D24 code, through each arch's decode, gives the correctly
+// rounded quotient (the decode writes the stored values it read for the resolve).
+TEST(PixelFormats, UnormDecodeEveryCodeEveryArch) {
+  const int width = 65536;
+  std::vector<std::uint8_t> row(static_cast<std::size_t>(width) * 4);
+  std::vector<float> parallax(width), stored(width), color(width);
+  long checked = 0;
+  for (DepthFormat format : {DepthFormat::unorm16, DepthFormat::unorm24_s8, DepthFormat::s8_unorm24}) {
+    SourceView source;
+    source.depth_buffer = DepthBuffer::of(format, row.data(), width, 1, width * 4);
+    source.color = ColorView::planar({FloatPlane{color.data(), width, 1, width}});
+    TargetView target;
+    const DepthDecoder decoder = DepthDecoder::from_near_far(DepthEncoding::standard, 1.0, 100.0);
+    const detail::Frame f = detail::plan_frame(source, decoder, ParallaxModel{3.0f, -30.0f}, Options(), target);
+    const int chunks = format == DepthFormat::unorm16 ? 1 : 256;
+    for (int a = 0; a < kArchCount; ++a) {
+      if (!arch_supported(static_cast<Arch>(a))) continue;
+      const detail::KernelTable& kernels = *detail::compiled_kernels(static_cast<Arch>(a));
+      for (int chunk = 0; chunk < chunks; ++chunk) {
+        for (int x = 0; x < width; ++x) {
+          const std::uint32_t u = static_cast<std::uint32_t>(chunk) * width + static_cast<std::uint32_t>(x);
+          if (format == DepthFormat::unorm16) {
+            const std::uint16_t v = static_cast<std::uint16_t>(u);
+            std::memcpy(row.data() + 2 * x, &v, 2);
+          } else {
+            const std::uint32_t w = format == DepthFormat::unorm24_s8 ? (u | 0xa5000000u) : (u << 8 | 0x5au);
+            std::memcpy(row.data() + 4 * x, &w, 4);
+          }
+        }
+        kernels.decode(f, row.data(), parallax.data(), stored.data());
+        const double max = format == DepthFormat::unorm16 ? 65535.0 : 16777215.0;
+        for (int x = 0; x < width; ++x) {
+          const std::uint32_t u = static_cast<std::uint32_t>(chunk) * width + static_cast<std::uint32_t>(x);
+          ASSERT_EQ(stored[static_cast<std::size_t>(x)], static_cast<float>(u / max))
+              << to_string(static_cast<Arch>(a)) << " " << to_string(format) << " code " << u;
+          ++checked;
+        }
+      }
+    }
+  }
+  std::printf("unorm decode: %ld codes through the kernels, all correctly rounded\n", checked);
 }
 
 // The seed's shader packing (EncUnitRangeToRGBA8) as a GPU evaluates it in float, the R, G, B
@@ -460,6 +505,62 @@ TEST(PixelFormats, NativeMatchesTheFloatPath) {
   }
   std::printf("native vs float path: %ld pixels, identical status and x; %ld channels and %ld depths one LSB off\n",
               pixels, colour_off, depth_off);
+}
+
+// reproject_pair on every format: each eye equals its own reproject() call (the pair shares the
+// decode, and D16's kept stored values, between the eyes).
+TEST(PixelFormats, PairEqualsTwoSingleCalls) {
+  std::mt19937 rng(91);
+  long compared = 0;
+  for (const FormatCase& fc : kCases) {
+    const DepthDecoder decoder = decoder_for(fc, 0);
+    const Frames fr = make_frames(rng, 75, 9, fc, decoder);
+    for (int m = 0; m < kMethodCount; ++m) {
+      for (int variant : {0, 3}) {
+        const Options options = options_for(static_cast<Method>(m), variant, 75);
+        const ParallaxModel right{4.0f, -35.0f};
+        Outputs single[2], pair[2];
+        ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, ParallaxModel{-right.a, -right.b}, options, single[0]).ok());
+        ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, right, options, single[1]).ok());
+        // The pair: the same views as run() builds, with both targets.
+        auto views = [&](Outputs& out, SourceView& source, TargetView& target) {
+          run(nullptr, fr, fc, true, decoder, right, options, out);  // sizes and fills out's buffers
+          const int tw = fr.width - 2 * options.guard;
+          std::fill(out.color.begin(), out.color.end(), 0xab);
+          std::fill(out.depth.begin(), out.depth.end(), 0xcd);
+          std::fill(out.status.begin(), out.status.end(), 99);
+          source.color = fc.color == ColorFormat::float32
+                             ? ColorView::rgba(fr.color_f.data(), fr.width, fr.height, fr.width * 4)
+                             : ColorView::packed(fc.color, fr.color_b.data() + 1, fr.width, fr.height, fr.color_stride);
+          target.color = fc.color == ColorFormat::float32
+                             ? MutableColorView::rgba(reinterpret_cast<float*>(out.color.data()), tw, fr.height, out.color_stride / 4)
+                             : MutableColorView::packed(fc.color, out.color.data(), tw, fr.height, out.color_stride);
+          if (fc.depth == DepthFormat::float32) {
+            source.depth = FloatPlane{fr.depth_f.data(), fr.width, fr.height, fr.width};
+            target.depth = MutableFloatPlane{reinterpret_cast<float*>(out.depth.data()), tw, fr.height, out.depth_stride / 4};
+          } else {
+            source.depth_buffer = DepthBuffer::of(fc.depth, fr.depth_b.data() + 1, fr.width, fr.height, fr.depth_stride);
+            source.depth_buffer.linear_near = fr.packed_near;
+            source.depth_buffer.linear_far = fr.packed_far;
+            target.depth_buffer = MutableDepthBuffer::of(fc.depth, out.depth.data(), tw, fr.height, out.depth_stride);
+          }
+          target.status = BytePlane{out.status.data(), tw, fr.height, tw};
+        };
+        SourceView source;
+        TargetView left, right_target;
+        views(pair[0], source, left);
+        views(pair[1], source, right_target);
+        ASSERT_TRUE(reproject_pair(source, decoder, right, options, left, right_target).ok());
+        for (int eye = 0; eye < 2; ++eye) {
+          ASSERT_EQ(pair[eye].color, single[eye].color) << to_string(fc.color) << "+" << to_string(fc.depth) << " eye " << eye;
+          ASSERT_EQ(pair[eye].depth, single[eye].depth) << to_string(fc.color) << "+" << to_string(fc.depth) << " eye " << eye;
+          ASSERT_EQ(pair[eye].status, single[eye].status);
+          ++compared;
+        }
+      }
+    }
+  }
+  std::printf("formats: %ld pair eyes equal their single calls\n", compared);
 }
 
 TEST(PixelFormats, ClearErrors) {
