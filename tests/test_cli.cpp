@@ -259,9 +259,9 @@ constexpr int kW = 960, kH = 540;
 const char* const kWarpFlags =
     "--color room/centre.png --depth room/centre_depth.pfm --encoding standard --near 1 --far 20 "
     "--separation 0.03 --convergence 3.5";
-// warp and pair blend 8-bit PNG colour in linear light by default (rgba8_srgb); the floors below
-// were measured blending the stored values, as the float path and `compare` do, which this asks
-// for (the native rgba8 path: within 1 LSB of the float path, CliNative.PngNativeMatchesFloatPath).
+// warp and pair blend 8-bit PNG colour as the stored values by default (rgba8, as the float path
+// and `compare` do; within 1 LSB of the float path, CliNative.PngNativeMatchesFloatPath); the
+// floors below were measured so, which this also says explicitly.
 const char* const kBlendBytes = " --color-space linear";
 
 void ensure_room() {
@@ -418,8 +418,8 @@ TEST(CliScene, WritesEveryView) {
 //
 // Measured (8-bit PNG colour in and out blended as stored, float depth, every instruction set):
 // scanline, secant, exact 34.85 dB; march16 34.48 dB; single 27.50 dB. Blended in linear light
-// (the default, rgba8_srgb) exact scores 34.39 dB: the scene's textures are smooth in the encoded
-// values, so interpolating those is nearer the ray-cast eye; its floor is 33.9 dB. Not reprojecting at all (the centre view
+// (--color-space srgb, rgba8_srgb) exact scores 34.39 dB: the scene's textures are smooth in the encoded
+// values, so interpolating those is nearer the ray-cast eye; its floor is 33.9 dB (--color-space srgb). Not reprojecting at all (the centre view
 // against the right eye) scores 16.6 dB. The floors sit about 0.5 dB below the measurements:
 // far more than rounding can move them (the unfused SSE kernels differ in the last bits only),
 // and less than a real fault costs: a parallax systematically 2 % off, at most 0.22 px here,
@@ -445,7 +445,7 @@ TEST(CliWarp, PsnrAgainstTrueEyeAboveFloor) {
   EXPECT_GT(measured["march16"], measured["single"]);
   EXPECT_NEAR(measured["scanline"], measured["exact"], 0.01);
   EXPECT_NEAR(measured["secant"], measured["exact"], 0.01);
-  const CliRun srgb = run(std::string("warp ") + kWarpFlags + " --out warp-srgb.png");
+  const CliRun srgb = run(std::string("warp ") + kWarpFlags + " --color-space srgb --out warp-srgb.png");
   ASSERT_EQ(srgb.code, 0) << srgb.err;
   const double p_srgb = psnr(read_color("warp-srgb.png"), truth, mask);
   std::printf("[ psnr     ] exact, blended in linear light (rgba8_srgb) %.2f dB (floor 33.9)\n", p_srgb);
@@ -1462,7 +1462,7 @@ TEST(CliNative, PngSrgbBlendsInLinearLight) {
   }
   write_pfm("centre-linear.pfm", linear);
   const std::string camera = " --depth room/centre_depth.pfm --encoding standard --near 1 --far 20 --convergence 3.5";
-  const CliRun s = run("warp --color room/centre.png" + camera + " --out srgb.png");
+  const CliRun s = run("warp --color room/centre.png" + camera + " --color-space srgb --out srgb.png");
   const CliRun l = run("warp --color room/centre.png" + camera + " --color-space linear --out srgb-as-bytes.png");
   const CliRun r = run("warp --color centre-linear.pfm" + camera + " --out srgb-ref.pfm");
   ASSERT_EQ(s.code, 0) << s.err;
@@ -1500,7 +1500,7 @@ TEST(CliNative, GreyAlphaPngKeepsItsChannels) {
   }
   ASSERT_TRUE(reproject::io::write_png(path("grey-alpha.png"), ga.color(), 8).ok());
   const std::string common = "warp --color grey-alpha.png --depth room/centre_depth.pfm --encoding standard --near 1 --far 20 --convergence 3.5";
-  const CliRun s = run(common + " --out ga-srgb.png");
+  const CliRun s = run(common + " --color-space srgb --out ga-srgb.png");
   const CliRun l = run(common + " --color-space linear --out ga-lin.png");
   const CliRun f = run(common + " --float-color --out ga-flt.png");
   ASSERT_EQ(s.code, 0) << s.err;
@@ -1691,7 +1691,7 @@ TEST(CliRaw, ColorDumpsMatchTheNativeFiles) {
   const CliRun r8 = run("warp --color colour8.raw --color-format rgba8 --size 960x540" + depth + " --out c8.raw");
   const CliRun png8 = run("warp --color room/centre.png --color-space linear" + depth + " --out c8-png.png");
   const CliRun s8 = run("warp --color colour8.raw --color-format rgba8_srgb --size 960x540" + depth + " --out c8s.png");
-  const CliRun pngs = run("warp --color room/centre.png" + depth + " --out c8s-png.png");
+  const CliRun pngs = run("warp --color room/centre.png --color-space srgb" + depth + " --out c8s-png.png");
   const CliRun r16 = run("warp --color colour16.raw --color-format rgba16f --size 960x540" + depth + " --out c16.raw");
   const CliRun exr = run("warp --color centre-half.exr" + depth + " --out c16-exr.exr");
   for (const CliRun* r : {&r8, &png8, &s8, &pngs, &r16, &exr}) ASSERT_EQ(r->code, 0) << r->err;

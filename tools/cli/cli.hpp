@@ -242,7 +242,7 @@ std::vector<Flags::Spec> native_flags();
 // What those flags say, checked against each other and against the file names before any file
 // is read.
 struct NativeSpec {
-  ColorFormat png_format = ColorFormat::rgba8_srgb;  // --color-space: how 8-bit PNG colour blends natively
+  ColorFormat png_format = ColorFormat::rgba8;  // --color-space: how 8-bit PNG colour blends natively
   bool float_color = false;                          // --float-color: never read colour natively
   bool raw_color = false;                            // --color is a .raw file ...
   ColorFormat color_format = ColorFormat::rgba8;     // ... of this format (--color-format)

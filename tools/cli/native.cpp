@@ -113,8 +113,8 @@ int raw_word_bytes(ColorFormat format) { return format == ColorFormat::rgba16f ?
 std::vector<Flags::Spec> native_flags() {
   return {
       {"color-space", "SPACE",
-       "8-bit PNG colour read natively is blended as srgb (in linear light, like a GPU's sRGB texture) or linear "
-       "(the bytes as they are) [srgb]"},
+       "8-bit PNG colour read natively is blended as linear (the bytes as they are, as the float path does) or "
+       "srgb (in linear light, like a GPU's sRGB texture) [linear]"},
       {"float-color", nullptr, "reproject the colour as floats even when it could be read natively (for comparison)"},
       {"size", "WxH", "the size of the .raw inputs"},
       {"color-format", "FORMAT", "a .raw colour's format: rgba8, rgba8_srgb or rgba16f"},

@@ -13,8 +13,8 @@ namespace {
 const char kNativeHelp[] =
     "\n"
     "Colour is reprojected in the file's own format when every colour output has the input's file type and\n"
-    "depth: an 8-bit PNG as rgba8_srgb (--color-space linear: rgba8), a half EXR as rgba16f; otherwise as\n"
-    "floats (always with --float-color). The summary line names the path taken (\"colour rgba8_srgb (native)\").\n"
+    "depth: an 8-bit PNG as rgba8 (--color-space srgb: rgba8_srgb), a half EXR as rgba16f; otherwise as\n"
+    "floats (always with --float-color). The summary line names the path taken (\"colour rgba8 (native)\").\n"
     "A .raw input is an engine buffer's bytes: --size WxH, rows packed (stride W x bytes per pixel), words\n"
     "little-endian; its format is --color-format / --depth-format. Outputs of a .raw input keep its format.\n";
 
