@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 #include <xsimd/xsimd.hpp>
@@ -84,7 +85,8 @@ xsimd::batch<float, Arch> gather(const float* base, const xsimd::batch<std::int3
   alignas(64) std::int32_t at[L];
   alignas(64) float value[L];
   index.store_aligned(at);
-  for (int i = 0; i < L; ++i) value[i] = base[at[i]];
+  // memcpy: `base` may be a row of 32-bit pixels (rgba8) at any byte address.
+  for (int i = 0; i < L; ++i) std::memcpy(&value[i], base + at[i], sizeof(float));
   return xsimd::batch<float, Arch>::load_aligned(value);
 }
 

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "kernels/dispatch.hpp"
@@ -102,6 +103,8 @@ Status check_color(const ColorViewT<T>& color, int width, int height, const char
 }
 
 // A depth buffer (source or output) of the frame's size; strides in bytes.
+// A source's rgba8_packed_linear range is checked; a target's is not read (the output is stored
+// with the source's range).
 template <class Byte>
 Status check_depth_buffer(const DepthBufferT<Byte>& depth, int width, int height, const char* name) {
   if (static_cast<unsigned>(depth.format) >= static_cast<unsigned>(kDepthFormatCount))
@@ -113,10 +116,11 @@ Status check_depth_buffer(const DepthBufferT<Byte>& depth, int width, int height
       (reinterpret_cast<std::uintptr_t>(depth.data) % alignof(float) != 0 || depth.stride % 4 != 0))
     return Status(StatusCode::invalid_stride, "%s: float32 depth rows must start on 4-byte boundaries (data %p, stride %td bytes)",
                   name, static_cast<const void*>(depth.data), depth.stride);
-  if (depth.format == DepthFormat::rgba8_packed_linear &&
-      !(std::isfinite(depth.linear_near) && std::isfinite(depth.linear_far) && depth.linear_far != depth.linear_near))
-    return Status(StatusCode::invalid_option, "%s: rgba8_packed_linear range [%g, %g] must be finite and not empty", name,
-                  depth.linear_near, depth.linear_far);
+  if (std::is_const<Byte>::value && depth.format == DepthFormat::rgba8_packed_linear &&
+      !(std::isfinite(depth.linear_near) && std::isfinite(depth.linear_far) && depth.linear_far != depth.linear_near &&
+        std::isfinite(depth.linear_far - depth.linear_near)))
+    return Status(StatusCode::invalid_option, "%s: rgba8_packed_linear range [%g, %g] must be finite, not empty, "
+                  "and its length a finite float", name, depth.linear_near, depth.linear_far);
   return Status();
 }
 

@@ -55,6 +55,7 @@ struct DepthBufferT {
   int height = 0;
   std::ptrdiff_t stride = 0;  // bytes between row starts, >= width * bytes_per_pixel(format)
   // rgba8_packed_linear only: the linear depth range v in [0, 1) spans (d = near + v (far - near)).
+  // Read from the source (finite, far != near, far - near finite); an output uses the source's.
   float linear_near = 0.0f;
   float linear_far = 1.0f;
 
