@@ -7,6 +7,8 @@
 //   for what our writer does not produce: Blender-style layer names with other passes beside the
 //   depth, a lower-case "depth", a data window away from the origin, a tiled file, ambiguous
 //   layers; bad files.
+// Suites Packed and Raw: 8-bit PNG and half EXR colour as RGBA8 / RGBA16F bytes, every channel
+//   count, and raw buffers (little-endian words, rows packed, exact sizes).
 // Suite Formats: format detection by extension and the generic read/write/depth calls, with their
 //   errors (unknown extension, content not matching the extension, size mismatches).
 // Suite StereoViews: exact pixels of every packing, both anaglyphs, the status colours and the
@@ -289,6 +291,133 @@ TEST(Png, RoundTrip16BitDepth) {
   EXPECT_EQ(refused.error, io::IoError::unsupported) << refused.message;
   EXPECT_TRUE(contains(refused.message, "must have 1 channel, this one has 3")) << refused.message;
   EXPECT_TRUE(loaded.image.empty());
+}
+
+// ------------------------------------------------------------------------------------------------
+// Packed: colour read and written as an engine's RGBA8 / RGBA16F bytes
+
+// 8-bit PNGs of every channel count read as RGBA8 (grey repeated, missing alpha 255) and written
+// back in their own layout, byte for byte.
+TEST(Packed, PngOfEveryChannelCountRoundTrips) {
+  for (int channels = 1; channels <= 4; ++channels) {
+    SCOPED_TRACE(channels);
+    const Image image = make_image(7, 3, channels, [](int c, int x, int y) { return static_cast<float>((x * 37 + y * 91 + c * 53) % 256); });
+    TempFile file("in.png");
+    ASSERT_TRUE(io::write_image(file.path, image.color()).ok());
+    io::ImageInfo info;
+    ASSERT_TRUE(io::read_image_info(file.path, &info).ok());
+    EXPECT_EQ(info.bit_depth, 8);
+    io::PackedColor packed;
+    const io::IoStatus read = io::read_png_packed(file.path, reproject::ColorFormat::rgba8_srgb, &packed);
+    ASSERT_TRUE(read.ok()) << read.message;
+    EXPECT_EQ(packed.format, reproject::ColorFormat::rgba8_srgb);
+    EXPECT_EQ(packed.channels, channels);
+    ASSERT_EQ(packed.bytes.size(), 7u * 3u * 4u);
+    for (int y = 0; y < 3; ++y) {
+      for (int x = 0; x < 7; ++x) {
+        const std::uint8_t* p = packed.bytes.data() + (y * 7 + x) * 4;
+        const bool grey = channels <= 2;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(p[c], at(image, grey ? 0 : c, x, y)) << x << "," << y;
+        EXPECT_EQ(p[3], channels == 2 ? at(image, 1, x, y) : channels == 4 ? at(image, 3, x, y) : 255.0f);
+      }
+    }
+    TempFile out("out.png");
+    ASSERT_TRUE(io::write_png_packed(out.path, packed.view(), channels).ok());
+    io::LoadedImage back;
+    ASSERT_TRUE(io::read_image(out.path, &back).ok());
+    EXPECT_EQ(back.bit_depth, 8);
+    expect_same_bits(image, back.image);
+  }
+}
+
+TEST(Packed, SixteenBitPngAndFloatExrAreNotPacked) {
+  const Image image = make_image(4, 2, 3, [](int c, int x, int) { return static_cast<float>(1000 * c + x); });
+  TempFile png("c16.png");
+  io::WriteOptions options;
+  options.png_bit_depth = 16;
+  ASSERT_TRUE(io::write_image(png.path, image.color(), options).ok());
+  io::PackedColor packed;
+  io::IoStatus status = io::read_png_packed(png.path, reproject::ColorFormat::rgba8, &packed);
+  EXPECT_EQ(status.error, io::IoError::unsupported) << status.message;
+  EXPECT_TRUE(packed.bytes.empty());
+  TempFile exr("c32.exr");
+  ASSERT_TRUE(io::write_exr(exr.path, image.color()).ok());
+  io::ImageInfo info;
+  ASSERT_TRUE(io::read_image_info(exr.path, &info).ok());
+  EXPECT_EQ(info.bit_depth, 32);
+  status = io::read_exr_packed(exr.path, &packed);
+  EXPECT_EQ(status.error, io::IoError::unsupported) << status.message;
+  EXPECT_TRUE(contains(status.message, "not all half")) << status.message;
+  EXPECT_TRUE(packed.bytes.empty());
+}
+
+// Half EXRs of every channel count read as RGBA16F, the halves bit for bit (Y repeated, a
+// missing alpha 1.0), and written back in their own layout.
+TEST(Packed, HalfExrOfEveryChannelCountRoundTrips) {
+  for (int channels = 1; channels <= 4; ++channels) {
+    SCOPED_TRACE(channels);
+    const Image image = make_image(5, 4, channels, [](int c, int x, int y) { return 0.1f * x - 0.37f * y + 2.5f * c; });
+    io::ExrWriteOptions options;
+    options.color_type = io::ExrPixelType::half;
+    TempFile file("in.exr");
+    ASSERT_TRUE(io::write_exr(file.path, image.color(), nullptr, options).ok());
+    io::ImageInfo info;
+    ASSERT_TRUE(io::read_image_info(file.path, &info).ok());
+    EXPECT_EQ(info.bit_depth, 16);
+    io::PackedColor packed;
+    const io::IoStatus read = io::read_exr_packed(file.path, &packed);
+    ASSERT_TRUE(read.ok()) << read.message;
+    EXPECT_EQ(packed.format, reproject::ColorFormat::rgba16f);
+    EXPECT_EQ(packed.channels, channels);
+    ASSERT_EQ(packed.bytes.size(), 5u * 4u * 8u);
+    for (int y = 0; y < 4; ++y) {
+      for (int x = 0; x < 5; ++x) {
+        std::uint16_t h[4];
+        std::memcpy(h, packed.bytes.data() + (y * 5 + x) * 8, sizeof h);
+        const bool grey = channels <= 2;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(h[c], half(at(image, grey ? 0 : c, x, y)).bits()) << x << "," << y;
+        const float alpha = channels == 2 ? at(image, 1, x, y) : channels == 4 ? at(image, 3, x, y) : 1.0f;
+        EXPECT_EQ(h[3], half(alpha).bits());
+      }
+    }
+    TempFile out("out.exr");
+    ASSERT_TRUE(io::write_exr_packed(out.path, packed.view(), channels).ok());
+    io::LoadedImage back;
+    ASSERT_TRUE(io::read_image(out.path, &back).ok());
+    EXPECT_EQ(back.bit_depth, 16);
+    ASSERT_EQ(back.image.channels(), channels);
+    for (int c = 0; c < channels; ++c) {
+      for (int y = 0; y < 4; ++y) {
+        for (int x = 0; x < 5; ++x) EXPECT_EQ(at(back.image, c, x, y), static_cast<float>(half(at(image, c, x, y))));
+      }
+    }
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
+// Raw buffers
+
+TEST(Raw, RowsPackedLittleEndianAndSizeChecked) {
+  // Two rows of three 16-bit words, from a buffer with a padded stride.
+  const std::uint16_t words[2][4] = {{0x0102, 0x0304, 0x0506, 0xFFFF}, {0x0708, 0x090A, 0x0B0C, 0xFFFF}};
+  TempFile file("d.raw");
+  ASSERT_TRUE(io::write_raw(file.path, reinterpret_cast<const std::uint8_t*>(words), 6, 2, 8, 2).ok());
+  const std::vector<unsigned char> bytes = file_bytes(file.path);
+  EXPECT_EQ(bytes, (std::vector<unsigned char>{2, 1, 4, 3, 6, 5, 8, 7, 10, 9, 12, 11}));
+  std::vector<std::uint8_t> back;
+  ASSERT_TRUE(io::read_raw(file.path, 12, 2, "a 3x2 unorm16 buffer", &back).ok());
+  std::uint16_t first = 0;
+  std::memcpy(&first, back.data(), 2);
+  EXPECT_EQ(first, 0x0102);
+  EXPECT_TRUE(io::check_raw_size(file.path, 12, "x").ok());
+
+  const io::IoStatus wrong = io::read_raw(file.path, 16, 2, "a 4x2 unorm16 buffer", &back);
+  EXPECT_EQ(wrong.error, io::IoError::size_mismatch);
+  EXPECT_TRUE(back.empty());
+  EXPECT_TRUE(contains(wrong.message, "holds 12 bytes, but a 4x2 unorm16 buffer is 16 bytes")) << wrong.message;
+  EXPECT_EQ(io::check_raw_size(file.path, 11, "x").error, io::IoError::size_mismatch);
+  EXPECT_EQ(io::check_raw_size(file.path + ".missing", 12, "x").error, io::IoError::open_failed);
+  EXPECT_EQ(io::check_raw_size(::testing::TempDir(), 12, "x").error, io::IoError::read_failed);
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -136,9 +136,17 @@ class OutputSet {
   void outputs(const Flags& flags, const std::vector<const char*>& names);
   // Creates `dir` (and its parents) if missing; kExitOutput on failure.
   void make_directory(const std::string& dir);
-  // Colour normalised 0..1: PNG 8 or 16 bits (scaled by 2^bits - 1), PFM/EXR floats. PFM keeps
-  // 1 or 3 channels (grey + alpha and RGBA lose alpha).
-  void color(const std::string& path, const ColorView& color, int png_bits = 8);
+  // Colour normalised 0..1: PNG 8 or 16 bits (scaled by 2^bits - 1), PFM/EXR floats (EXR half
+  // when `exr_half`). PFM keeps 1 or 3 channels (grey + alpha and RGBA lose alpha).
+  void color(const std::string& path, const ColorView& color, int png_bits = 8, bool exr_half = false);
+  // Packed colour (ColorView::packed) as it is, in the file type of `path`: rgba8 / rgba8_srgb as
+  // an 8-bit .png, rgba16f as a half .exr (the first `channels` channels), any format as .raw
+  // (all four, the bytes).
+  void packed_color(const std::string& path, const ColorView& packed, int channels);
+  // A buffer's bytes as a .raw file: `height` rows of `row_bytes`, row y at data + y * stride;
+  // words of `word_bytes` written little-endian.
+  void raw(const std::string& path, const std::uint8_t* data, std::size_t row_bytes, int height, std::ptrdiff_t stride,
+           int word_bytes);
   // Values as they are (depth, source x): PNG 16-bit integers, PFM/EXR floats.
   void plane(const std::string& path, const FloatPlane& plane, int png_bits = 16);
   // A picture of 0..255 floats (stereo_views) as an 8-bit PNG, values as they are.
@@ -151,6 +159,8 @@ class OutputSet {
 
  private:
   static std::string sibling(const std::string& path, const char* what, std::size_t n);
+  void raw_to(const std::string& path, const std::string& temporary, const std::uint8_t* data, std::size_t row_bytes,
+              int height, std::ptrdiff_t stride, int word_bytes);
   const std::string& stage(const std::string& path);
   void check(const io::IoStatus& status, const std::string& path, const std::string& temporary);
   struct Staged {
@@ -172,12 +182,40 @@ std::vector<Flags::Spec> source_flags();  // --color --depth --encoding --near -
 std::vector<Flags::Spec> camera_flags(bool with_direction, bool with_disparity);
 std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool with_threads_arch);
 
+// A source depth buffer in an engine's format, read from a .raw file (--depth-format).
+struct RawDepth {
+  std::vector<std::uint8_t> bytes;  // empty: none (the depth is Frame::depth)
+  DepthFormat format = DepthFormat::float32;
+  int width = 0;
+  int height = 0;
+  float linear_near = 0.0f;  // rgba8_packed_linear: --linear-range
+  float linear_far = 1.0f;
+
+  std::ptrdiff_t stride() const noexcept { return static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(format); }
+  DepthBuffer view() const noexcept;
+  MutableDepthBuffer mutable_view() noexcept;  // an output buffer
+};
+
 struct Frame {
   ColorImage color;
   Image depth;             // stored values x depth scale, unknown values filled
   int depth_bits = 32;     // of the depth file: 8/16 (PNG integers), 16/32 (EXR half/float), 32 (PFM)
   double depth_scale = 1;  // K: depth = file value x K
   long unknown_filled = 0;
+  // warp and pair (load_source): the colour read natively in an engine format (then `color` is
+  // empty), and the depth as a raw buffer (then `depth` is empty).
+  io::PackedColor packed_color;
+  bool color_from_raw = false;
+  RawDepth raw_depth;
+
+  bool native_color() const noexcept { return !packed_color.bytes.empty(); }
+  bool native_depth() const noexcept { return !raw_depth.bytes.empty(); }
+  int width() const noexcept { return native_depth() ? raw_depth.width : depth.width(); }
+  int height() const noexcept { return native_depth() ? raw_depth.height : depth.height(); }
+  int color_channels() const noexcept { return native_color() ? packed_color.channels : color.image.channels(); }
+  // The source views reproject() takes.
+  ColorView color_view() const noexcept;
+  SourceView source() const noexcept;
 };
 // The headers of --color and --depth, checked against each other; the colour's is returned.
 io::ImageInfo frame_info(const Flags& flags);
@@ -196,6 +234,46 @@ DepthFile load_depth(const Flags& flags, const DepthDecoder& decoder);
 // (the far plane; infinity for linear and the infinite encodings; 0 for disparity). Returns the
 // number of pixels filled.
 long fill_unknown_depth(Image* depth, const std::vector<std::uint8_t>& unknown, const DepthDecoder& decoder);
+
+// ---- Engine-native formats and raw dumps (warp, pair; docs/CLI.md "Native formats") ----------
+
+// --color-space --float-color --size --color-format --depth-format --linear-range
+std::vector<Flags::Spec> native_flags();
+// What those flags say, checked against each other and against the file names before any file
+// is read.
+struct NativeSpec {
+  ColorFormat png_format = ColorFormat::rgba8;  // --color-space: how 8-bit PNG colour blends natively
+  bool float_color = false;                          // --float-color: never read colour natively
+  bool raw_color = false;                            // --color is a .raw file ...
+  ColorFormat color_format = ColorFormat::rgba8;     // ... of this format (--color-format)
+  bool raw_depth = false;                            // --depth is a .raw file ...
+  DepthFormat depth_format = DepthFormat::float32;   // ... of this format (--depth-format)
+  int width = 0, height = 0;                         // --size, for the .raw files
+  float linear_near = 0.0f, linear_far = 1.0f;       // --linear-range (rgba8_packed_linear)
+};
+NativeSpec native_spec_from_flags(const Flags& flags);
+// Whether `path` names a raw buffer (.raw, case-insensitive).
+bool is_raw_path(const std::string& path);
+// Checks, before any work, a colour output (--out, --out-left, ...) and a depth output
+// (--out-depth, ...) against the source: a .raw colour is written as .raw or in its own file type,
+// a .raw depth as .raw, .pfm or .exr; .raw outputs need .raw inputs (usage errors).
+void check_color_output(const char* flag, const std::string& path, const NativeSpec& spec);
+void check_depth_output(const char* flag, const std::string& path, const NativeSpec& spec);
+// load_frame for warp and pair: reads --color natively (an 8-bit PNG as rgba8 / rgba8_srgb, a half
+// EXR as rgba16f) when nothing in `color_outputs` needs another file type and --float-color is
+// not given, or as a .raw buffer; --depth as a .raw buffer or as load_depth does. Headers (and raw
+// files' sizes) are checked against each other first.
+Frame load_source(const Flags& flags, const NativeSpec& spec, const DepthDecoder& decoder,
+                  const std::vector<std::string>& color_outputs);
+// "colour rgba8_srgb (native), depth unorm16 (raw)" for the summary line.
+std::string formats_text(const Frame& frame);
+// The size of the words whose byte order a .raw file fixes (little-endian): 1, 2 or 4.
+int raw_word_bytes(DepthFormat format);
+int raw_word_bytes(ColorFormat format);
+// A raw depth buffer's stored values d as floats (the value the decoder decodes), for .pfm / .exr.
+Image stored_depth_values(const RawDepth& depth);
+// Packed colour (`channels` of the file it came from) as 0..1 floats, for the stereo pictures.
+Image float_color_of(const ColorView& packed, int channels);
 
 DepthDecoder decoder_from_flags(const Flags& flags);
 // The model for a source `width` target pixels wide (guard band excluded), and the direction.

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -21,6 +22,20 @@ namespace {
 
 const char* format_list() { return ".png, .pfm or .exr"; }
 
+// Whether `path`'s extension (what follows the last '.' of its last component) is `extension`,
+// ignoring case.
+bool has_extension(const std::string& path, const char* extension) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.rfind('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return false;
+  const std::string ext = path.substr(dot + 1);
+  if (ext.size() != std::strlen(extension)) return false;
+  for (std::size_t i = 0; i < ext.size(); ++i) {
+    if (std::tolower(static_cast<unsigned char>(ext[i])) != extension[i]) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 namespace {
@@ -32,6 +47,8 @@ namespace {
 }
 
 }  // namespace
+
+bool is_raw_path(const std::string& path) { return has_extension(path, "raw"); }
 
 io::ImageInfo color_info(const std::string& path) {
   io::ImageInfo info;
@@ -248,10 +265,11 @@ void OutputSet::check(const io::IoStatus& status, const std::string& path, const
   fail(status.error == io::IoError::out_of_memory ? kExitRuntime : kExitOutput, message);
 }
 
-void OutputSet::color(const std::string& path, const ColorView& color, int png_bits) {
+void OutputSet::color(const std::string& path, const ColorView& color, int png_bits, bool exr_half) {
   const io::FileFormat format = io::format_from_path(path);
   const std::string& temporary = stage(path);
   io::WriteOptions options;
+  if (exr_half) options.exr.color_type = io::ExrPixelType::half;
   if (format == io::FileFormat::png) {
     // 0..1 back to the file's integers.
     const float scale = static_cast<float>((1u << png_bits) - 1u);
@@ -273,6 +291,33 @@ void OutputSet::color(const std::string& path, const ColorView& color, int png_b
     view.channels -= 1;  // PFM has no alpha: write grey or RGB
   }
   check(io::write_image(temporary, view, options), path, temporary);
+}
+
+void OutputSet::packed_color(const std::string& path, const ColorView& packed, int channels) {
+  const std::string& temporary = stage(path);
+  if (is_raw_path(path)) {
+    const std::size_t row = static_cast<std::size_t>(packed.width()) * bytes_per_pixel(packed.format);
+    // rgba16f: half words, little-endian in the file (as raw_word_bytes says).
+    raw_to(path, temporary, packed.pixels.data, row, packed.height(), packed.pixels.stride,
+           packed.format == ColorFormat::rgba16f ? 2 : 1);
+    return;
+  }
+  switch (io::format_from_path(path)) {
+    case io::FileFormat::png: check(io::write_png_packed(temporary, packed, channels), path, temporary); return;
+    case io::FileFormat::exr: check(io::write_exr_packed(temporary, packed, channels), path, temporary); return;
+    default: break;
+  }
+  fail(kExitRuntime, "internal error: no writer of " + std::string(to_string(packed.format)) + " for '" + path + "'");
+}
+
+void OutputSet::raw(const std::string& path, const std::uint8_t* data, std::size_t row_bytes, int height,
+                    std::ptrdiff_t stride, int word_bytes) {
+  raw_to(path, stage(path), data, row_bytes, height, stride, word_bytes);
+}
+
+void OutputSet::raw_to(const std::string& path, const std::string& temporary, const std::uint8_t* data,
+                       std::size_t row_bytes, int height, std::ptrdiff_t stride, int word_bytes) {
+  check(io::write_raw(temporary, data, row_bytes, height, stride, word_bytes), path, temporary);
 }
 
 void OutputSet::plane(const std::string& path, const FloatPlane& plane, int png_bits) {

@@ -1,6 +1,7 @@
 // `reproject warp` (one view to one eye) and `reproject pair` (a centre view to both eyes).
 #include <cstdio>
 #include <iterator>
+#include <new>
 
 #include "cli.hpp"
 #include "imageio/stereo_views.hpp"
@@ -8,26 +9,65 @@
 namespace reproject::cli {
 namespace {
 
-// One target eye's buffers, in the layout reproject() writes.
+// Appended to --help: which path the colour takes, and the raw layout (docs/CLI.md).
+const char kNativeHelp[] =
+    "\n"
+    "Colour is reprojected in the file's own format when every colour output has the input's file type and\n"
+    "depth: an 8-bit PNG as rgba8 (--color-space srgb: rgba8_srgb), a half EXR as rgba16f; otherwise as\n"
+    "floats (always with --float-color). The summary line names the path taken (\"colour rgba8 (native)\").\n"
+    "A .raw input is an engine buffer's bytes: --size WxH, rows packed (stride W x bytes per pixel), words\n"
+    "little-endian; its format is --color-format / --depth-format. Outputs of a .raw input keep its format.\n";
+
+// One target eye's buffers, in the layout and formats reproject() writes for `frame`: float
+// planes, or the source's packed colour format and raw depth format.
 struct EyeBuffers {
   Image color, depth, source_x;
+  io::PackedColor packed;  // native colour
+  RawDepth raw_depth;      // raw depth, in the source's format and range
   std::vector<std::uint8_t> status;
+  int width = 0, height = 0;
 
-  EyeBuffers(int w, int h, int channels, bool want_source_x)
-      : color(w, h, channels), depth(w, h, 1), status(static_cast<std::size_t>(w) * h) {
-    if (want_source_x) source_x = Image(w, h, 1);
-    if (color.empty() || depth.empty() || (want_source_x && source_x.empty())) {
-      fail(kExitRuntime, "out of memory for a " + std::to_string(w) + "x" + std::to_string(h) + " target");
+  EyeBuffers(int w, int h, const Frame& frame, bool want_source_x) : width(w), height(h) {
+    bool allocated = true;
+    try {
+      status.resize(static_cast<std::size_t>(w) * h);
+      if (frame.native_color()) {
+        packed.width = w;
+        packed.height = h;
+        packed.channels = frame.packed_color.channels;
+        packed.format = frame.packed_color.format;
+        packed.bytes.resize(static_cast<std::size_t>(packed.stride()) * h);
+      } else {
+        color = Image(w, h, frame.color_channels());
+      }
+      if (frame.native_depth()) {
+        raw_depth = frame.raw_depth;  // the format and range; then the target's size
+        raw_depth.width = w;
+        raw_depth.height = h;
+        raw_depth.bytes.assign(static_cast<std::size_t>(raw_depth.stride()) * h, 0);
+      } else {
+        depth = Image(w, h, 1);
+      }
+      if (want_source_x) source_x = Image(w, h, 1);
+    } catch (const std::bad_alloc&) {
+      allocated = false;
     }
+    allocated = allocated && (frame.native_color() || !color.empty()) && (frame.native_depth() || !depth.empty()) &&
+                (!want_source_x || !source_x.empty());
+    if (!allocated) fail(kExitRuntime, "out of memory for a " + std::to_string(w) + "x" + std::to_string(h) + " target");
   }
   TargetView view() {
     TargetView t;
-    t.color = color.mutable_color();
-    t.depth = depth.mutable_plane();
-    t.status = BytePlane{status.data(), color.width(), color.height(), color.width()};
+    if (!packed.bytes.empty()) t.color = packed.mutable_view();
+    else t.color = color.mutable_color();
+    if (!raw_depth.bytes.empty()) t.depth_buffer = raw_depth.mutable_view();
+    else t.depth = depth.mutable_plane();
+    t.status = BytePlane{status.data(), width, height, width};
     if (!source_x.empty()) t.source_x = source_x.mutable_plane();
     return t;
   }
+  // The colour as 0..1 floats with the source's channels (the stereo pictures are made in float).
+  Image float_color() const { return !packed.bytes.empty() ? float_color_of(packed.view(), packed.channels) : color; }
   // "98.21 % hit, 1.19 % hole, 0.60 % outside, 0.00 % clipped"
   std::string summary() const {
     long n[4] = {0, 0, 0, 0};
@@ -60,6 +100,31 @@ int depth_png_bits(const Frame& frame) {
 int color_png_bits(const Frame& frame) {
   return frame.color.bit_depth == 16 ? 16 : 8;
 }
+// An EXR colour output keeps a half EXR input's type, as a PNG output keeps its bit depth.
+bool color_exr_half(const Frame& frame) {
+  return frame.color.format == io::FileFormat::exr && frame.color.bit_depth == 16;
+}
+
+void write_color(OutputSet& out, const std::string& path, const EyeBuffers& eye, const Frame& frame) {
+  if (frame.native_color()) out.packed_color(path, eye.packed.view(), eye.packed.channels);
+  else out.color(path, eye.color.color(), color_png_bits(frame), color_exr_half(frame));
+}
+
+// A picture made from both eyes (float), in the file type and depth the eyes would be written in.
+void write_picture(OutputSet& out, const std::string& path, const Image& picture, const Frame& frame) {
+  out.color(path, picture.color(), color_png_bits(frame), color_exr_half(frame));
+}
+
+void write_depth(OutputSet& out, const std::string& path, const EyeBuffers& eye, const Frame& frame) {
+  if (!frame.native_depth()) {
+    out.plane(path, depth_in_file_units(eye.depth, frame.depth_scale).plane(0), depth_png_bits(frame));
+  } else if (is_raw_path(path)) {
+    const RawDepth& d = eye.raw_depth;
+    out.raw(path, d.bytes.data(), static_cast<std::size_t>(d.stride()), d.height, d.stride(), raw_word_bytes(d.format));
+  } else {
+    out.plane(path, stored_depth_values(eye.raw_depth).plane(0));
+  }
+}
 
 void check_png_path(const char* flag, const std::string& path) {
   if (io::format_from_path(path) != io::FileFormat::png) {
@@ -75,32 +140,33 @@ void check_float_path(const char* flag, const std::string& path) {
 }
 
 int target_width(const Frame& frame, const Options& options) {
-  const int w = frame.depth.width() - 2 * options.guard;
+  const int w = frame.width() - 2 * options.guard;
   if (w < 1) {
     fail(kExitUsage, "--guard: " + std::to_string(options.guard) + " columns on each side leave no target column of a " +
-                         std::to_string(frame.depth.width()) + "-pixel-wide source");
+                         std::to_string(frame.width()) + "-pixel-wide source");
   }
   return w;
 }
 
-SourceView source_of(const Frame& frame) {
-  SourceView source;
-  source.color = frame.color.image.color();
-  source.depth = frame.depth.plane(0);
-  return source;
+// Source flags, the native-format flags, then the camera and the options.
+std::vector<Flags::Spec> frame_flags(bool warp) {
+  std::vector<Flags::Spec> specs = source_flags();
+  const auto native = native_flags();
+  const auto camera = camera_flags(warp, warp);
+  const auto options = option_flags(true, true, true);
+  specs.insert(specs.end(), native.begin(), native.end());
+  specs.insert(specs.end(), camera.begin(), camera.end());
+  specs.insert(specs.end(), options.begin(), options.end());
+  return specs;
 }
 
 }  // namespace
 
 int run_warp(int argc, char** argv) {
-  std::vector<Flags::Spec> specs = source_flags();
-  const auto camera = camera_flags(true, true);
-  const auto options = option_flags(true, true, true);
-  specs.insert(specs.end(), camera.begin(), camera.end());
-  specs.insert(specs.end(), options.begin(), options.end());
+  std::vector<Flags::Spec> specs = frame_flags(true);
   specs.insert(specs.end(), {
-      {"out", "FILE", "the target eye's colour (.png, .pfm, .exr)"},
-      {"out-depth", "FILE", "its depth, in the source's encoding and file units (.png 16-bit, .pfm, .exr)"},
+      {"out", "FILE", "the target eye's colour (.png, .pfm, .exr; .raw for a .raw colour)"},
+      {"out-depth", "FILE", "its depth, in the source's encoding and file units (.png 16-bit, .pfm, .exr; .raw for a .raw depth)"},
       {"status", "FILE", "its status, 8-bit .png: 0 hit, 1 hole, 2 outside, 3 clipped"},
       {"source-x", "FILE", "the source column each pixel came from (.pfm, .exr)"},
   });
@@ -108,11 +174,15 @@ int run_warp(int argc, char** argv) {
   flags.parse(argc, argv, 2);
   if (flags.help()) {
     std::fputs(flags.usage("--color FILE --depth FILE (--encoding NAME ... --convergence C | --disparity) --out FILE [flags]").c_str(), stdout);
+    std::fputs(kNativeHelp, stdout);
     return kExitOk;
   }
   flags.require("out");
-  check_output_path("out", flags.text("out"));
-  if (flags.has("out-depth")) check_output_path("out-depth", flags.text("out-depth"));
+  flags.require("color");
+  flags.require("depth");
+  const NativeSpec native = native_spec_from_flags(flags);
+  check_color_output("out", flags.text("out"), native);
+  if (flags.has("out-depth")) check_depth_output("out-depth", flags.text("out-depth"), native);
   if (flags.has("status")) check_png_path("status", flags.text("status"));
   if (flags.has("source-x")) check_float_path("source-x", flags.text("source-x"));
   check_distinct_outputs(flags, {"out", "out-depth", "status", "source-x"});
@@ -120,8 +190,6 @@ int run_warp(int argc, char** argv) {
   const DepthDecoder decoder = decoder_from_flags(flags);
   const Options opts = options_from_flags(flags, true);
   const int dilate = dilate_radius_from_flags(flags);
-  flags.require("color");
-  flags.require("depth");
   // The model needs the target width, known only from the file; check its flags before reading.
   EyeDirection direction = EyeDirection::centre_to_right;
   (void)model_from_flags(flags, 1, &direction);
@@ -129,36 +197,30 @@ int run_warp(int argc, char** argv) {
   OutputSet out;
   out.inputs(flags, {"color", "depth"});
   out.outputs(flags, {"out", "out-depth", "status", "source-x"});
-  Frame frame = load_frame(flags, decoder);
+  Frame frame = load_source(flags, native, decoder, {flags.text("out")});
   dilate_depth(&frame.depth, decoder, dilate);
-  const int w = target_width(frame, opts), h = frame.depth.height();
+  const int w = target_width(frame, opts), h = frame.height();
   const ParallaxModel model = model_from_flags(flags, w, &direction);
 
-  EyeBuffers eye(w, h, frame.color.image.channels(), flags.has("source-x"));
-  check_status(reproject::reproject(source_of(frame), decoder, model, opts, eye.view()), "reproject");
+  EyeBuffers eye(w, h, frame, flags.has("source-x"));
+  check_status(reproject::reproject(frame.source(), decoder, model, opts, eye.view()), "reproject");
 
-  out.color(flags.text("out"), eye.color.color(), color_png_bits(frame));
-  if (flags.has("out-depth")) {
-    out.plane(flags.text("out-depth"), depth_in_file_units(eye.depth, frame.depth_scale).plane(0), depth_png_bits(frame));
-  }
+  write_color(out, flags.text("out"), eye, frame);
+  if (flags.has("out-depth")) write_depth(out, flags.text("out-depth"), eye, frame);
   if (flags.has("status")) out.bytes(flags.text("status"), eye.status.data(), w, h);
   if (flags.has("source-x")) out.plane(flags.text("source-x"), eye.source_x.plane(0));
   out.commit();
-  std::printf("warp %s, %s%s: %dx%d -> %dx%d, %s%s\n", to_string(direction), to_string(opts.method),
-              dilate > 0 ? (", depth dilated " + std::to_string(dilate) + " px").c_str() : "", frame.depth.width(), h,
-              w, h, eye.summary().c_str(),
+  std::printf("warp %s, %s%s, %s: %dx%d -> %dx%d, %s%s\n", to_string(direction), to_string(opts.method),
+              dilate > 0 ? (", depth dilated " + std::to_string(dilate) + " px").c_str() : "", formats_text(frame).c_str(),
+              frame.width(), h, w, h, eye.summary().c_str(),
               frame.unknown_filled > 0 ? (", " + std::to_string(frame.unknown_filled) + " unknown depths filled").c_str() : "");
   return kExitOk;
 }
 
 int run_pair(int argc, char** argv) {
-  std::vector<Flags::Spec> specs = source_flags();
-  const auto camera = camera_flags(false, false);
-  const auto options = option_flags(true, true, true);
-  specs.insert(specs.end(), camera.begin(), camera.end());
-  specs.insert(specs.end(), options.begin(), options.end());
+  std::vector<Flags::Spec> specs = frame_flags(false);
   specs.insert(specs.end(), {
-      {"out-left", "FILE", "left eye colour (.png, .pfm, .exr)"},
+      {"out-left", "FILE", "left eye colour (.png, .pfm, .exr; .raw for a .raw colour)"},
       {"out-right", "FILE", "right eye colour"},
       {"out-left-depth", "FILE", "left eye depth (source encoding and file units)"},
       {"out-right-depth", "FILE", "right eye depth"},
@@ -174,8 +236,12 @@ int run_pair(int argc, char** argv) {
   flags.parse(argc, argv, 2);
   if (flags.help()) {
     std::fputs(flags.usage("--color FILE --depth FILE --encoding NAME [--near N --far F] --convergence C OUTPUTS [flags]").c_str(), stdout);
+    std::fputs(kNativeHelp, stdout);
     return kExitOk;
   }
+  flags.require("color");
+  flags.require("depth");
+  const NativeSpec native = native_spec_from_flags(flags);
   const char* outputs[] = {"out-left", "out-right", "out-left-depth", "out-right-depth", "status-left",
                            "status-right", "side-by-side", "top-bottom", "anaglyph"};
   bool any = false;
@@ -183,8 +249,11 @@ int run_pair(int argc, char** argv) {
     if (!flags.has(o)) continue;
     any = true;
     const std::string path = flags.text(o);
-    if (std::string(o).rfind("status", 0) == 0) check_png_path(o, path);
-    else check_output_path(o, path);
+    const std::string name = o;
+    if (name.rfind("status", 0) == 0) check_png_path(o, path);
+    else if (name == "out-left" || name == "out-right") check_color_output(o, path, native);
+    else if (name == "out-left-depth" || name == "out-right-depth") check_depth_output(o, path, native);
+    else check_output_path(o, path);  // the stereo pictures: image files, made in float
   }
   check_distinct_outputs(flags, std::vector<const char*>(std::begin(outputs), std::end(outputs)));
   if (!any) {
@@ -208,46 +277,48 @@ int run_pair(int argc, char** argv) {
   const DepthDecoder decoder = decoder_from_flags(flags);
   const Options opts = options_from_flags(flags, true);
   const int dilate = dilate_radius_from_flags(flags);
-  flags.require("color");
-  flags.require("depth");
   (void)model_from_flags(flags, 1, nullptr);
 
   OutputSet out;
   out.inputs(flags, {"color", "depth"});
   out.outputs(flags, std::vector<const char*>(std::begin(outputs), std::end(outputs)));
-  Frame frame = load_frame(flags, decoder);
+  // The stereo pictures are made in float from the eyes, so only the eyes' files decide the path.
+  std::vector<std::string> color_outputs;
+  for (const char* o : {"out-left", "out-right", "side-by-side", "top-bottom"}) {
+    if (flags.has(o)) color_outputs.push_back(flags.text(o));
+  }
+  Frame frame = load_source(flags, native, decoder, color_outputs);
   dilate_depth(&frame.depth, decoder, dilate);
-  const int w = target_width(frame, opts), h = frame.depth.height();
+  const int w = target_width(frame, opts), h = frame.height();
   const ParallaxModel to_right = model_from_flags(flags, w, nullptr);
-  const int channels = frame.color.image.channels();
-  EyeBuffers left(w, h, channels, false), right(w, h, channels, false);
-  check_status(reproject::reproject_pair(source_of(frame), decoder, to_right, opts, left.view(), right.view()),
+  EyeBuffers left(w, h, frame, false), right(w, h, frame, false);
+  check_status(reproject::reproject_pair(frame.source(), decoder, to_right, opts, left.view(), right.view()),
                "reproject_pair");
 
-  const int bits = color_png_bits(frame);
-  if (flags.has("out-left")) out.color(flags.text("out-left"), left.color.color(), bits);
-  if (flags.has("out-right")) out.color(flags.text("out-right"), right.color.color(), bits);
-  if (flags.has("out-left-depth")) {
-    out.plane(flags.text("out-left-depth"), depth_in_file_units(left.depth, frame.depth_scale).plane(0), depth_png_bits(frame));
-  }
-  if (flags.has("out-right-depth")) {
-    out.plane(flags.text("out-right-depth"), depth_in_file_units(right.depth, frame.depth_scale).plane(0), depth_png_bits(frame));
-  }
+  if (flags.has("out-left")) write_color(out, flags.text("out-left"), left, frame);
+  if (flags.has("out-right")) write_color(out, flags.text("out-right"), right, frame);
+  if (flags.has("out-left-depth")) write_depth(out, flags.text("out-left-depth"), left, frame);
+  if (flags.has("out-right-depth")) write_depth(out, flags.text("out-right-depth"), right, frame);
   if (flags.has("status-left")) out.bytes(flags.text("status-left"), left.status.data(), w, h);
   if (flags.has("status-right")) out.bytes(flags.text("status-right"), right.status.data(), w, h);
+  Image left_color, right_color;  // 0..1 floats, for the pictures
+  if (flags.has("side-by-side") || flags.has("top-bottom") || flags.has("anaglyph")) {
+    left_color = left.float_color();
+    right_color = right.float_color();
+  }
   if (flags.has("side-by-side")) {
     Image packed;
-    check_picture(io::side_by_side(left.color.color(), right.color.color(), &packed, packing), "side-by-side image");
-    out.color(flags.text("side-by-side"), packed.color(), bits);
+    check_picture(io::side_by_side(left_color.color(), right_color.color(), &packed, packing), "side-by-side image");
+    write_picture(out, flags.text("side-by-side"), packed, frame);
   }
   if (flags.has("top-bottom")) {
     Image packed;
-    check_picture(io::top_bottom(left.color.color(), right.color.color(), &packed, packing), "top-bottom image");
-    out.color(flags.text("top-bottom"), packed.color(), bits);
+    check_picture(io::top_bottom(left_color.color(), right_color.color(), &packed, packing), "top-bottom image");
+    write_picture(out, flags.text("top-bottom"), packed, frame);
   }
   if (flags.has("anaglyph")) {
     // stereo_views works in 0..255 (Dubois clamps there); back to 0..1 for the colour writer.
-    const Image l = to_picture_scale(left.color.color()), r = to_picture_scale(right.color.color());
+    const Image l = to_picture_scale(left_color.color()), r = to_picture_scale(right_color.color());
     Image glyph;
     check_picture(io::anaglyph(l.color(), r.color(), &glyph, anaglyph_mode), "anaglyph");
     for (int c = 0; c < glyph.channels(); ++c) {
@@ -259,9 +330,9 @@ int run_pair(int argc, char** argv) {
     out.color(flags.text("anaglyph"), glyph.color(), 8);
   }
   out.commit();
-  std::printf("pair%s: %dx%d -> 2 x %dx%d; left %s; right %s\n",
-              dilate > 0 ? (" (depth dilated " + std::to_string(dilate) + " px)").c_str() : "", frame.depth.width(), h, w, h,
-              left.summary().c_str(), right.summary().c_str());
+  std::printf("pair%s, %s: %dx%d -> 2 x %dx%d; left %s; right %s\n",
+              dilate > 0 ? (" (depth dilated " + std::to_string(dilate) + " px)").c_str() : "", formats_text(frame).c_str(),
+              frame.width(), h, w, h, left.summary().c_str(), right.summary().c_str());
   return kExitOk;
 }
 

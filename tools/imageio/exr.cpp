@@ -301,9 +301,66 @@ IoStatus unsupported_sampling(const std::string& path, const ChannelInfo& channe
                                            std::to_string(channel.y_sampling) + ")");
 }
 
-// Reads the planes the purpose wants; with `info_only`, only says what they would be.
+// The colour channels `names` (1 Y, 2 Y A, 3 R G B, 4 R G B A; all half) as rgba16f, straight
+// from the file's halves: OpenEXR writes each channel into its place in the interleaved pixels.
+IoStatus read_packed_color(const std::string& path, Imf::InputFile& file, const Imath::Box2i& window,
+                           const std::string& layer, const std::vector<std::string>& names, bool all_half,
+                           PackedColor* out) {
+  if (!all_half) {
+    return failure(IoError::unsupported, quote_path(path) + ": the colour channels are not all half (" +
+                                             name_list(names) + "): read it as floats");
+  }
+  const int width = window.max.x - window.min.x + 1;
+  const int height = window.max.y - window.min.y + 1;
+  const bool grey = names.size() <= 2;
+  const bool alpha = names.size() == 2 || names.size() == 4;
+  const std::size_t pixel = 4 * sizeof(half);
+  auto read_rows = [&](std::uint8_t* base, int y0, int y1) {
+    const Imath::Box2i rows(Imath::V2i(window.min.x, y0), Imath::V2i(window.max.x, y1));
+    const std::size_t row_bytes = pixel * static_cast<std::size_t>(width);
+    Imf::FrameBuffer frame;
+    const int colour_slots = grey ? 1 : 3;  // grey goes to R and is copied to G and B below
+    for (int c = 0; c < colour_slots; ++c) {
+      frame.insert(names[static_cast<std::size_t>(c)],
+                   Imf::Slice::Make(Imf::HALF, base + c * sizeof(half), rows, pixel, row_bytes));
+    }
+    // A channel the file lacks is filled with the slice's fill value: an absent alpha is opaque.
+    const std::string alpha_name = alpha ? names.back() : join_name(layer, "A");
+    frame.insert(alpha_name, Imf::Slice::Make(Imf::HALF, base + 3 * sizeof(half), rows, pixel, row_bytes, 1, 1, 1.0));
+    file.setFrameBuffer(frame);
+    file.readPixels(y0, y1);
+    if (grey) {
+      for (int y = 0; y <= y1 - y0; ++y) {
+        std::uint8_t* p = base + static_cast<std::size_t>(y) * row_bytes;
+        for (int x = 0; x < width; ++x, p += pixel) {
+          std::memcpy(p + sizeof(half), p, sizeof(half));
+          std::memcpy(p + 2 * sizeof(half), p, sizeof(half));
+        }
+      }
+    }
+  };
+  // As read_exr_file: the row stored last first, into a one-row buffer, so that a file cut
+  // short fails before the image is allocated.
+  {
+    const int y = file.header().lineOrder() == Imf::DECREASING_Y ? window.min.y : window.max.y;
+    std::vector<std::uint8_t> row(pixel * static_cast<std::size_t>(width));
+    read_rows(row.data(), y, y);
+  }
+  PackedColor packed;
+  packed.width = width;
+  packed.height = height;
+  packed.channels = static_cast<int>(names.size());
+  packed.format = ColorFormat::rgba16f;
+  packed.bytes.resize(pixel * static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  read_rows(packed.bytes.data(), window.min.y, window.max.y);
+  *out = std::move(packed);
+  return {};
+}
+
+// Reads the planes the purpose wants; with `info_only`, only says what they would be; with
+// `packed`, reads the colour as rgba16f instead (read_packed_color).
 IoStatus read_exr_file(const std::string& path, LoadedImage* out, const ExrReadOptions& options, Purpose purpose,
-                       FileInput* stream, ImageInfo* info_only) {
+                       FileInput* stream, ImageInfo* info_only, PackedColor* packed) {
   Imf::InputFile file(*stream);
   const Imf::Header& header = file.header();
   const Imath::Box2i window = header.dataWindow();
@@ -351,7 +408,7 @@ IoStatus read_exr_file(const std::string& path, LoadedImage* out, const ExrReadO
                                                             "channels: " + name_list(set.names()));
   }
 
-  bool all_half = true;
+  bool all_half = true, color_half = true;
   std::vector<const ChannelInfo*> wanted;
   for (const std::string& name : color_names) wanted.push_back(set.find(name));
   if (!depth_name.empty()) wanted.push_back(set.find(depth_name));
@@ -359,14 +416,18 @@ IoStatus read_exr_file(const std::string& path, LoadedImage* out, const ExrReadO
     if (channel->x_sampling != 1 || channel->y_sampling != 1) return unsupported_sampling(path, *channel);
     if (channel->type != Imf::HALF) all_half = false;
   }
+  for (const std::string& name : color_names) color_half = color_half && set.find(name)->type == Imf::HALF;
+  const bool depth_half = !depth_name.empty() && set.find(depth_name)->type == Imf::HALF;
 
   const int w = static_cast<int>(width);
   const int h = static_cast<int>(height);
   if (info_only != nullptr) {
     const int channels = purpose == Purpose::depth ? 1 : static_cast<int>(color_names.size());
-    *info_only = ImageInfo{w, h, channels, FileFormat::exr};
+    const bool half = purpose == Purpose::depth ? depth_half : color_half;
+    *info_only = ImageInfo{w, h, channels, FileFormat::exr, half ? 16 : 32};
     return {};
   }
+  if (packed != nullptr) return read_packed_color(path, file, window, color_layer, color_names, color_half, packed);
 
   // Every slice is float: OpenEXR converts half and uint channels while reading. `rows` is the
   // part of the data window that `color` and `depth` hold.
@@ -423,7 +484,7 @@ IoStatus read_exr_file(const std::string& path, LoadedImage* out, const ExrReadO
 
 // Opens `path`, checks the magic number, and reads; every exception becomes an IoStatus.
 IoStatus read_exr_checked(const std::string& path, LoadedImage* out, const ExrReadOptions& options, Purpose purpose,
-                          ImageInfo* info_only = nullptr) {
+                          ImageInfo* info_only = nullptr, PackedColor* packed = nullptr) {
   if (out == nullptr) return failure(IoError::invalid_argument, "read_exr: null output");
   *out = LoadedImage{};
   detail::InputFile file;
@@ -446,7 +507,7 @@ IoStatus read_exr_checked(const std::string& path, LoadedImage* out, const ExrRe
   FileInput stream(file.get(), path);
   IoStatus status;
   try {
-    status = read_exr_file(path, out, options, purpose, &stream, info_only);
+    status = read_exr_file(path, out, options, purpose, &stream, info_only, packed);
   } catch (const std::bad_alloc&) {
     status = failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
   } catch (const std::exception& error) {
@@ -462,7 +523,10 @@ IoStatus read_exr_checked(const std::string& path, LoadedImage* out, const ExrRe
   } catch (...) {
     status = failure(IoError::corrupt, quote_path(path) + " is a damaged OpenEXR file (unknown error)");
   }
-  if (!status) *out = LoadedImage{};
+  if (!status) {
+    *out = LoadedImage{};
+    if (packed != nullptr) *packed = PackedColor{};
+  }
   return status;
 }
 
@@ -482,6 +546,8 @@ std::vector<half> to_half(const ColorView& color, int c, int width, int height) 
   }
   return values;
 }
+
+IoStatus write_frame(const std::string& path, const Imf::Header& header, const Imf::FrameBuffer& frame, int height);
 
 IoStatus write_exr_file(const std::string& path, const ColorView& color, const FloatPlane* depth,
                         const ExrWriteOptions& options) {
@@ -553,6 +619,11 @@ IoStatus write_exr_file(const std::string& path, const ColorView& color, const F
   for (int c = 0; c < static_cast<int>(names.size()); ++c) add(names[static_cast<std::size_t>(c)], color, c, options.color_type);
   if (depth != nullptr) add(options.depth_channel, depth_view, 0, options.depth_type);
 
+  return write_frame(path, header, frame, height);
+}
+
+// Writes `frame` under `header` to `path` (all or nothing, through a ReplacingFile).
+IoStatus write_frame(const std::string& path, const Imf::Header& header, const Imf::FrameBuffer& frame, int height) {
   detail::ReplacingFile file;
   if (IoStatus status = file.create(path); !status) return status;
   FileOutput stream(file.get(), path);
@@ -579,14 +650,41 @@ IoStatus write_exr_file(const std::string& path, const ColorView& color, const F
   return file.commit();
 }
 
+// The first `channels` of rgba16f pixels as half channels, straight from the interleaved buffer.
+IoStatus write_exr_packed_file(const std::string& path, const ColorView& packed, int channels,
+                               const ExrWriteOptions& options) {
+  if (IoStatus status = detail::check_packed(packed, channels, ColorFormat::rgba16f); !status) {
+    status.message = "cannot write " + quote_path(path) + ": " + status.message;
+    return status;
+  }
+  const int width = packed.width();
+  const int height = packed.height();
+  Imf::Header header(width, height);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  Imf::FrameBuffer frame;
+  // Grey is R (the reader repeats Y into R, G and B); grey + alpha is R and A.
+  static const char* const kNames[5][4] = {{}, {"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+  static const int kSlot[5][4] = {{}, {0}, {0, 3}, {0, 1, 2}, {0, 1, 2, 3}};
+  // OpenEXR only reads from a frame buffer it writes; its Slice takes a char*, hence const_cast.
+  char* base = reinterpret_cast<char*>(const_cast<std::uint8_t*>(packed.pixels.data));
+  for (int c = 0; c < channels; ++c) {
+    const std::string name = join_name(options.color_layer, kNames[channels][c]);
+    header.channels().insert(name, Imf::Channel(Imf::HALF));
+    frame.insert(name, Imf::Slice(Imf::HALF, base + kSlot[channels][c] * sizeof(half), 4 * sizeof(half),
+                                  static_cast<std::size_t>(packed.pixels.stride)));
+  }
+  return write_frame(path, header, frame, height);
+}
+
 // The part of reading outside read_exr_file's own try block can only throw std::bad_alloc (while
 // building a message or a name list).
 IoStatus read_exr_safely(const std::string& path, LoadedImage* out, const ExrReadOptions& options, Purpose purpose,
-                         ImageInfo* info_only = nullptr) {
+                         ImageInfo* info_only = nullptr, PackedColor* packed = nullptr) {
   try {
-    return read_exr_checked(path, out, options, purpose, info_only);
+    return read_exr_checked(path, out, options, purpose, info_only, packed);
   } catch (const std::bad_alloc&) {
     if (out != nullptr) *out = LoadedImage{};
+    if (packed != nullptr) *packed = PackedColor{};
     return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
   }
 }
@@ -609,6 +707,25 @@ IoStatus read_exr_info(const std::string& path, bool depth, ImageInfo* out) {
 }
 
 }  // namespace detail
+
+IoStatus read_exr_packed(const std::string& path, PackedColor* out) {
+  if (out == nullptr) return failure(IoError::invalid_argument, "read_exr_packed: null output");
+  *out = PackedColor{};
+  LoadedImage unused;
+  ExrReadOptions options;
+  options.depth_channel = "";  // colour only
+  return read_exr_safely(path, &unused, options, Purpose::color, nullptr, out);
+}
+
+IoStatus write_exr_packed(const std::string& path, const ColorView& packed, int channels, const ExrWriteOptions& options) {
+  try {
+    return write_exr_packed_file(path, packed, channels, options);
+  } catch (const std::bad_alloc&) {
+    return failure(IoError::out_of_memory, "out of memory writing " + quote_path(path));
+  } catch (const std::exception& error) {
+    return failure(IoError::write_failed, error.what());
+  }
+}
 
 IoStatus read_exr(const std::string& path, LoadedImage* out, const ExrReadOptions& options) {
   return read_exr_safely(path, out, options, Purpose::any);

@@ -222,5 +222,29 @@ IoStatus check_writable(const ColorView& color) {
   return {};
 }
 
+IoStatus check_packed(const ColorView& packed, int channels, ColorFormat format) {
+  const bool same = packed.format == format || (format == ColorFormat::rgba8 && packed.format == ColorFormat::rgba8_srgb);
+  if (!same || packed.layout != ColorLayout::interleaved_rgba) {
+    return failure(IoError::invalid_argument, std::string("the pixels are ") + to_string(packed.format) + ", not " +
+                                                  to_string(format));
+  }
+  if (channels < 1 || channels > 4) {
+    return failure(IoError::invalid_argument, "cannot write " + std::to_string(channels) +
+                                                  " channels (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA)");
+  }
+  const int width = packed.pixels.width;
+  const int height = packed.pixels.height;
+  if (width < 1 || height < 1) {
+    return failure(IoError::invalid_argument, "cannot write an empty image (" + size_text(width, height) + ")");
+  }
+  if (packed.pixels.data == nullptr) return failure(IoError::invalid_argument, "the pixels have no data");
+  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(format);
+  if (packed.pixels.stride < row) {
+    return failure(IoError::invalid_argument, "the pixels have stride " + std::to_string(packed.pixels.stride) +
+                                                  " < row of " + std::to_string(row) + " bytes");
+  }
+  return {};
+}
+
 }  // namespace detail
 }  // namespace reproject::io

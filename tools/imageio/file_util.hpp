@@ -65,6 +65,10 @@ std::uint32_t quantise(float value, std::uint32_t max_value) noexcept;
 // Checks that `color` can be written: 1-4 channels (4 when interleaved), a non-empty size, data
 // present, strides covering the row, every plane the same size (else size_mismatch).
 IoStatus check_writable(const ColorView& color);
+// Checks that a packed view can be written: its format is `format` (rgba8 also takes
+// rgba8_srgb: the same bytes), `channels` is 1..4, a non-empty size, data present, the stride
+// covering the row.
+IoStatus check_packed(const ColorView& packed, int channels, ColorFormat format);
 // Sample c of pixel x in row y, whatever the layout.
 inline float sample(const ColorView& color, int c, int x, int y) noexcept {
   if (color.layout == ColorLayout::interleaved_rgba) return color.plane[0].row(y)[4 * x + c];

@@ -11,9 +11,11 @@
 // complete, so a failed write leaves neither a partial file nor a changed destination.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "reproject/image.hpp"
 
@@ -69,6 +71,9 @@ struct ImageInfo {
   int height = 0;
   int channels = 0;  // as read_image / read_depth would return them
   FileFormat format = FileFormat::unknown;
+  // Of the channels read_image_info (read_depth_info) would return: PNG 8 or 16; PFM 32; EXR 16
+  // when each of them is half, else 32 (a depth channel beside the colour does not count).
+  int bit_depth = 0;
 };
 
 // ---- PNG ----
@@ -172,6 +177,57 @@ IoStatus read_depth(const std::string& path, LoadedImage* out);
 // PNG: grey, quantised like write_png (16-bit unless options say 8); PFM: "Pf"; EXR: one channel
 // named options.exr.depth_channel of type options.exr.depth_type.
 IoStatus write_depth(const std::string& path, const FloatPlane& depth, const WriteOptions& options = {});
+
+// ---- Packed colour: an engine's RGBA buffer ----
+//
+// Colour as an engine holds it (reproject::ColorFormat): interleaved R, G, B, A pixels, one byte
+// per channel (rgba8, rgba8_srgb) or one IEEE half (rgba16f, the machine's byte order), rows
+// tightly packed. The values are the file's, bit for bit: no scaling, no colour management. A
+// file with fewer channels is expanded on reading (grey to R = G = B; a missing alpha opaque:
+// 255, or half 1.0) and `channels` says how many it had, so that the result can be written back
+// in the same layout.
+struct PackedColor {
+  std::vector<std::uint8_t> bytes;  // height rows of width * bytes_per_pixel(format) bytes
+  int width = 0;
+  int height = 0;
+  int channels = 0;  // of the file: 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
+  ColorFormat format = ColorFormat::rgba8;
+
+  std::ptrdiff_t stride() const noexcept { return static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(format); }
+  ColorView view() const noexcept { return ColorView::packed(format, bytes.data(), width, height, stride()); }
+  MutableColorView mutable_view() noexcept { return MutableColorView::packed(format, bytes.data(), width, height, stride()); }
+};
+
+// An 8-bit PNG (any colour type read_png takes) as rgba8 bytes labelled `format` (rgba8 or
+// rgba8_srgb: the bytes are the same, the label says how they are blended). A 16-bit PNG is
+// unsupported. On failure `*out` is left empty.
+IoStatus read_png_packed(const std::string& path, ColorFormat format, PackedColor* out);
+// Writes the first `channels` of an rgba8 / rgba8_srgb view as an 8-bit PNG: 1 grey (R), 2 grey
+// + alpha (R, A), 3 RGB, 4 RGBA.
+IoStatus write_png_packed(const std::string& path, const ColorView& packed, int channels);
+// An EXR's colour channels (the rule above) as rgba16f, read without widening to float: each
+// must be half (else unsupported). Y is repeated into R, G and B.
+IoStatus read_exr_packed(const std::string& path, PackedColor* out);
+// Writes the first `channels` of an rgba16f view as half channels (1 Y, 2 Y A, 3 R G B, 4 R G B
+// A; Y is R), named as write_exr names them; ZIP compression.
+IoStatus write_exr_packed(const std::string& path, const ColorView& packed, int channels,
+                          const ExrWriteOptions& options = {});
+
+// ---- Raw buffers ----
+//
+// A buffer's bytes with no header: the tool's engine dumps (docs/CLI.md). Rows are tightly
+// packed; words of `word_bytes` (1, 2 or 4) are little-endian in the file and in the machine's
+// byte order in memory.
+
+// Header phase: `path` is a regular file of exactly `bytes` bytes; otherwise size_mismatch, with
+// a message naming the file, its size and `what` ("a 960x540 unorm16 buffer (2 bytes per pixel)").
+IoStatus check_raw_size(const std::string& path, std::uint64_t bytes, const std::string& what);
+// The whole file, which must be `bytes` long (as check_raw_size). On failure `*out` is empty.
+IoStatus read_raw(const std::string& path, std::uint64_t bytes, int word_bytes, const std::string& what,
+                  std::vector<std::uint8_t>* out);
+// `height` rows of `row_bytes` bytes, row y at data + y * stride.
+IoStatus write_raw(const std::string& path, const std::uint8_t* data, std::size_t row_bytes, int height,
+                   std::ptrdiff_t stride, int word_bytes);
 
 // ---- Temporary files ----
 //

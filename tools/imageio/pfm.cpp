@@ -293,7 +293,7 @@ IoStatus read_pfm_info(const std::string& path, ImageInfo* out) {
   if (IoStatus status = file.open(path); !status) return status;
   PfmHeader header;
   if (IoStatus status = read_pfm_header(file.get(), path, &header); !status) return status;
-  *out = ImageInfo{header.width, header.height, header.channels, FileFormat::pfm};
+  *out = ImageInfo{header.width, header.height, header.channels, FileFormat::pfm, 32};
   return {};
 }
 

@@ -158,13 +158,37 @@ void convert_row(const png_byte* source, const PngLayout& layout, Image* image, 
   }
 }
 
-// Guarded. A non-interlaced image, decoded one row at a time straight into `image`, then the
+// One decoded 8-bit row into row y of packed RGBA8 bytes: grey repeated into R, G and B, a
+// missing alpha opaque.
+void pack_row(const png_byte* source, const PngLayout& layout, PackedColor* packed, int y) noexcept {
+  std::uint8_t* target = packed->bytes.data() + static_cast<std::ptrdiff_t>(y) * packed->stride();
+  const int width = static_cast<int>(layout.width);
+  for (int x = 0; x < width; ++x, target += 4) {
+    const png_byte* pixel = source + static_cast<std::ptrdiff_t>(x) * layout.channels;
+    const bool grey = layout.channels <= 2;
+    target[0] = pixel[0];
+    target[1] = grey ? pixel[0] : pixel[1];
+    target[2] = grey ? pixel[0] : pixel[2];
+    target[3] = layout.channels == 2 ? pixel[1] : layout.channels == 4 ? pixel[3] : 255;
+  }
+}
+
+// Where decoded rows go: planar floats (`Image`) or packed bytes (`PackedColor`).
+using RowSink = void (*)(const png_byte* source, const PngLayout& layout, void* target, int y);
+void to_floats(const png_byte* source, const PngLayout& layout, void* target, int y) {
+  convert_row(source, layout, static_cast<Image*>(target), y);
+}
+void to_packed(const png_byte* source, const PngLayout& layout, void* target, int y) {
+  pack_row(source, layout, static_cast<PackedColor*>(target), y);
+}
+
+// Guarded. A non-interlaced image, decoded one row at a time straight into `target`, then the
 // chunks up to IEND (so truncation and CRC errors after the image data are reported too).
-bool read_rows_into(png_structp png, png_bytep row, const PngLayout* layout, Image* image) {
+bool read_rows_into(png_structp png, png_bytep row, const PngLayout* layout, RowSink sink, void* target) {
   if (setjmp(png_jmpbuf(png)) != 0) return false;
   for (png_uint_32 y = 0; y < layout->height; ++y) {
     png_read_row(png, row, nullptr);
-    convert_row(row, *layout, image, static_cast<int>(y));
+    sink(row, *layout, target, static_cast<int>(y));
   }
   png_read_end(png, nullptr);
   return true;
@@ -205,8 +229,12 @@ class PngReader {
   IoStatus open(const std::string& path);
   const PngLayout& layout() const noexcept { return layout_; }
   IoStatus read(LoadedImage* out);
+  IoStatus read_packed(ColorFormat format, PackedColor* out);
 
  private:
+  // Decodes every row into `target` through `sink`.
+  IoStatus decode(RowSink sink, void* target);
+
   std::string path_;
   detail::InputFile file_;
   PngSession session_;
@@ -263,21 +291,42 @@ IoStatus PngReader::open(const std::string& path) {
   return {};
 }
 
-IoStatus PngReader::read(LoadedImage* out) {
-  const int width = static_cast<int>(layout_.width);
-  const int height = static_cast<int>(layout_.height);
-  Image image(width, height, layout_.channels);
-  if (image.empty()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path_));
+IoStatus PngReader::decode(RowSink sink, void* target) {
   if (!layout_.interlaced) {
     std::vector<png_byte> row(layout_.row_bytes);
-    if (!read_rows_into(reader_->png(), row.data(), &layout_, &image)) return session_failure(session_, path_);
+    if (!read_rows_into(reader_->png(), row.data(), &layout_, sink, target)) return session_failure(session_, path_);
   } else {
     std::vector<png_byte> pixels(layout_.row_bytes * layout_.height);
     std::vector<png_bytep> rows(layout_.height);
     for (png_uint_32 y = 0; y < layout_.height; ++y) rows[y] = pixels.data() + y * layout_.row_bytes;
     if (!read_rows(reader_->png(), rows.data())) return session_failure(session_, path_);
-    for (int y = 0; y < height; ++y) convert_row(rows[static_cast<std::size_t>(y)], layout_, &image, y);
+    for (png_uint_32 y = 0; y < layout_.height; ++y) sink(rows[y], layout_, target, static_cast<int>(y));
   }
+  return {};
+}
+
+IoStatus PngReader::read_packed(ColorFormat format, PackedColor* out) {
+  if (layout_.bit_depth != 8) {
+    return failure(IoError::unsupported, quote_path(path_) + ": a " + std::to_string(layout_.bit_depth) +
+                                             "-bit PNG is not 8-bit RGBA (read it as floats)");
+  }
+  PackedColor packed;
+  packed.width = static_cast<int>(layout_.width);
+  packed.height = static_cast<int>(layout_.height);
+  packed.channels = layout_.channels;
+  packed.format = format;
+  packed.bytes.resize(static_cast<std::size_t>(packed.stride()) * layout_.height);
+  if (IoStatus status = decode(to_packed, &packed); !status) return status;
+  *out = std::move(packed);
+  return {};
+}
+
+IoStatus PngReader::read(LoadedImage* out) {
+  const int width = static_cast<int>(layout_.width);
+  const int height = static_cast<int>(layout_.height);
+  Image image(width, height, layout_.channels);
+  if (image.empty()) return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path_));
+  if (IoStatus status = decode(to_floats, &image); !status) return status;
   out->image = std::move(image);
   out->bit_depth = layout_.bit_depth;
   out->format = FileFormat::png;
@@ -340,6 +389,8 @@ int color_type_for(int channels) noexcept {
   }
 }
 
+IoStatus write_png_rows(const std::string& path, int width, int height, int channels, int bit_depth, png_bytepp rows);
+
 IoStatus write_png_file(const std::string& path, const ColorView& color, int bit_depth) {
   if (bit_depth != 8 && bit_depth != 16) {
     return failure(IoError::invalid_argument,
@@ -375,6 +426,11 @@ IoStatus write_png_file(const std::string& path, const ColorView& color, int bit
     }
   }
 
+  return write_png_rows(path, width, height, channels, bit_depth, rows.data());
+}
+
+// Writes the quantised rows (each width * channels samples of bit_depth bits, as PNG stores them).
+IoStatus write_png_rows(const std::string& path, int width, int height, int channels, int bit_depth, png_bytepp rows) {
   detail::ReplacingFile file;
   if (IoStatus status = file.create(path); !status) return status;
   PngSession session;
@@ -388,7 +444,7 @@ IoStatus write_png_file(const std::string& path, const ColorView& color, int bit
   header.height = static_cast<png_uint_32>(height);
   header.bit_depth = bit_depth;
   header.color_type = color_type_for(channels);
-  if (!write_all(writer.png(), writer.info(), &header, rows.data())) {
+  if (!write_all(writer.png(), writer.info(), &header, rows)) {
     IoStatus status = session_failure(session, path);
     if (status.error == IoError::corrupt) {  // libpng refused what we gave it
       status = failure(IoError::write_failed, "cannot write " + quote_path(path) + ": libpng: " + session.libpng_message);
@@ -398,7 +454,61 @@ IoStatus write_png_file(const std::string& path, const ColorView& color, int bit
   return file.commit();
 }
 
+// The first `channels` of each RGBA8 pixel, in PNG's order for that colour type.
+IoStatus write_png_packed_file(const std::string& path, const ColorView& packed, int channels) {
+  if (IoStatus status = detail::check_packed(packed, channels, ColorFormat::rgba8); !status) {
+    status.message = "cannot write " + quote_path(path) + ": " + status.message;
+    return status;
+  }
+  const int width = packed.width();
+  const int height = packed.height();
+  const std::size_t row_bytes = static_cast<std::size_t>(width) * channels;
+  std::vector<png_byte> pixels(row_bytes * static_cast<std::size_t>(height));
+  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
+  // Grey is R (the reader repeats it into R, G and B); grey + alpha is R and A.
+  static const int kPick[5][4] = {{}, {0}, {0, 3}, {0, 1, 2}, {0, 1, 2, 3}};
+  for (int y = 0; y < height; ++y) {
+    const std::uint8_t* source = packed.pixels.row(y);
+    png_byte* target = pixels.data() + static_cast<std::size_t>(y) * row_bytes;
+    rows[static_cast<std::size_t>(y)] = target;
+    for (int x = 0; x < width; ++x, source += 4) {
+      for (int c = 0; c < channels; ++c) *target++ = source[kPick[channels][c]];
+    }
+  }
+  return write_png_rows(path, width, height, channels, 8, rows.data());
+}
+
 }  // namespace
+
+IoStatus read_png_packed(const std::string& path, ColorFormat format, PackedColor* out) {
+  if (out == nullptr) return failure(IoError::invalid_argument, "read_png_packed: null output");
+  *out = PackedColor{};
+  if (format != ColorFormat::rgba8 && format != ColorFormat::rgba8_srgb) {
+    return failure(IoError::invalid_argument, "read_png_packed: " + quote_path(path) + " read as " + to_string(format) +
+                                                  " (rgba8 or rgba8_srgb)");
+  }
+  try {
+    PngReader reader;
+    if (IoStatus status = reader.open(path); !status) return status;
+    return reader.read_packed(format, out);
+  } catch (const std::bad_alloc&) {
+    *out = PackedColor{};
+    return failure(IoError::out_of_memory, "out of memory reading " + quote_path(path));
+  } catch (const std::exception& error) {
+    *out = PackedColor{};
+    return failure(IoError::read_failed, error.what());
+  }
+}
+
+IoStatus write_png_packed(const std::string& path, const ColorView& packed, int channels) {
+  try {
+    return write_png_packed_file(path, packed, channels);
+  } catch (const std::bad_alloc&) {
+    return failure(IoError::out_of_memory, "out of memory writing " + quote_path(path));
+  } catch (const std::exception& error) {
+    return failure(IoError::write_failed, error.what());
+  }
+}
 
 IoStatus read_png(const std::string& path, LoadedImage* out) {
   if (out == nullptr) return failure(IoError::invalid_argument, "read_png: null output");
@@ -420,7 +530,8 @@ IoStatus read_png_info(const std::string& path, ImageInfo* out) {
   PngReader reader;
   if (IoStatus status = reader.open(path); !status) return status;
   const PngLayout& layout = reader.layout();
-  *out = ImageInfo{static_cast<int>(layout.width), static_cast<int>(layout.height), layout.channels, FileFormat::png};
+  *out = ImageInfo{static_cast<int>(layout.width), static_cast<int>(layout.height), layout.channels, FileFormat::png,
+                   layout.bit_depth};
   return {};
 }
 
