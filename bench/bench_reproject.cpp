@@ -12,16 +12,24 @@
 //                                                    fixed limit) instead of the frame's own
 //   march16/<arch>/512x512/threads:1/grey           one colour plane: the frame fits in cache
 //   roofline/<W>x<H>/threads:<n>[/grey]             the same bytes streamed by a plain copy
+//   <method>/<arch>/1920x1080/threads:<n>/<colour>+<depth>  an engine-native frame (kPixelFormats,
+//                                                    e.g. rgba8+unorm24_s8; rgba32f+float is the
+//                                                    float baseline), colour output only, on the
+//                                                    best arch and AVX2
+//   roofline/1920x1080/threads:<n>/<colour>+<depth>  the same bytes touched by a plain copy
 //
 // Counters: items = target pixels (both eyes for pair_), bytes = what one eye must touch: read
-// depth + colour, write colour + depth + status (no source_x). Benchmarks never assert time.
+// depth + colour, write colour + depth + status (no source_x); for the <colour>+<depth> cases
+// read depth + colour, write colour. Benchmarks never assert time.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <functional>
@@ -195,6 +203,124 @@ Outputs& output_frame(Size size, Layout layout, int slot) {
   return *out;
 }
 
+// --- Engine-native frames: the same scene converted once to an engine's colour and depth formats --
+
+// A `<colour>+<depth>` case's formats. Float colour is interleaved float RGBA; float depth is the
+// float depth plane, as the float cases pass it.
+struct PixelFormat {
+  const char* name;
+  ColorFormat color;
+  DepthFormat depth;
+};
+constexpr PixelFormat kPixelFormats[] = {
+    {"rgba32f+float", ColorFormat::float32, DepthFormat::float32},  // the float baseline
+    {"rgba8+unorm24_s8", ColorFormat::rgba8, DepthFormat::unorm24_s8},
+    {"rgba8_srgb+float", ColorFormat::rgba8_srgb, DepthFormat::float32},
+    {"rgba16f+float", ColorFormat::rgba16f, DepthFormat::float32},
+    {"rgba8+unorm16", ColorFormat::rgba8, DepthFormat::unorm16},
+};
+
+int color_bytes(const PixelFormat& format) {
+  return format.color == ColorFormat::float32 ? 4 * static_cast<int>(sizeof(float)) : reproject::bytes_per_pixel(format.color);
+}
+int depth_bytes(const PixelFormat& format) {
+  return format.depth == DepthFormat::float32 ? static_cast<int>(sizeof(float)) : reproject::bytes_per_pixel(format.depth);
+}
+// What a colour-only call touches per pixel: read colour + depth, write colour.
+std::int64_t bytes_per_pixel(const PixelFormat& format) { return 2 * color_bytes(format) + depth_bytes(format); }
+
+// Packed pixels as an engine holds them: rows padded to 64 bytes, 64-byte aligned, zero-filled
+// (so that the pages are touched before any timing).
+struct PackedBuffer {
+  std::unique_ptr<std::uint8_t, void (*)(void*)> bytes{nullptr, std::free};
+  std::ptrdiff_t stride = 0;
+
+  PackedBuffer(int width, int height, int pixel_bytes) {
+    stride = (static_cast<std::ptrdiff_t>(width) * pixel_bytes + 63) / 64 * 64;
+    const std::size_t size = static_cast<std::size_t>(stride) * height;
+    bytes.reset(static_cast<std::uint8_t*>(std::aligned_alloc(64, size)));
+    if (!bytes) {
+      std::fprintf(stderr, "reproject_bench: cannot allocate %dx%d packed pixels\n", width, height);
+      std::exit(1);
+    }
+    std::memset(bytes.get(), 0, size);
+  }
+  std::uint8_t* row(int y) const { return bytes.get() + y * stride; }
+};
+
+// One source frame in a PixelFormat and its colour output. Float colour and float depth are the
+// float frames themselves (source_frame, output_frame); the others are converted from them once.
+struct FormatFrame {
+  std::unique_ptr<PackedBuffer> color, depth, out_color;
+  SourceView source;
+  TargetView target;  // colour only
+};
+
+std::uint8_t unorm8(float value) {
+  return static_cast<std::uint8_t>(std::lround(std::min(std::max(value, 0.0f), 1.0f) * 255.0f));
+}
+
+const FormatFrame& format_frame(Size size, const PixelFormat& format) {
+  static std::map<std::tuple<int, int, std::string>, std::unique_ptr<FormatFrame>> cache;
+  std::unique_ptr<FormatFrame>& frame = cache[{size.width, size.height, format.name}];
+  if (frame) return *frame;
+  frame = std::make_unique<FormatFrame>();
+  const Source& floats = source_frame(size, Layout::interleaved_rgba);
+  const int w = size.width;
+  const int h = size.height;
+
+  if (format.color == ColorFormat::float32) {
+    frame->source.color = floats.color.color();
+    frame->target.color = output_frame(size, Layout::interleaved_rgba, 0).color.mutable_color();
+  } else {
+    const int pixel_bytes = color_bytes(format);
+    frame->color = std::make_unique<PackedBuffer>(w, h, pixel_bytes);
+    frame->out_color = std::make_unique<PackedBuffer>(w, h, pixel_bytes);
+    for (int y = 0; y < h; ++y) {
+      const float* rgba = floats.color.plane_data(0) + y * floats.color.stride();
+      std::uint8_t* out = frame->color->row(y);
+      for (int i = 0; i < 4 * w; ++i) {
+        const bool alpha = i % 4 == 3;
+        if (format.color == ColorFormat::rgba16f) {
+          const std::uint16_t half = formats::float_to_half(rgba[i]);
+          std::memcpy(out + 2 * i, &half, sizeof half);
+        } else if (format.color == ColorFormat::rgba8_srgb && !alpha) {
+          out[i] = formats::linear_to_srgb(rgba[i]);
+        } else {
+          out[i] = unorm8(rgba[i]);
+        }
+      }
+    }
+    frame->source.color = ColorView::packed(format.color, frame->color->bytes.get(), w, h, frame->color->stride);
+    frame->target.color = MutableColorView::packed(format.color, frame->out_color->bytes.get(), w, h, frame->out_color->stride);
+  }
+
+  if (format.depth == DepthFormat::float32) {
+    frame->source.depth = floats.depth.plane(0);
+  } else {
+    // The stored value d of the float frame, as a D16 or D24 code; D24S8's stencil holds the
+    // scene's object id, as an engine's stencil would hold some per-object mark.
+    const rs::View& view = centre_view(size);
+    frame->depth = std::make_unique<PackedBuffer>(w, h, depth_bytes(format));
+    for (int y = 0; y < h; ++y) {
+      const float* d = floats.depth.plane_data(0) + y * floats.depth.stride();
+      const std::uint8_t* object = view.object.data() + static_cast<std::size_t>(y) * w;
+      std::uint8_t* out = frame->depth->row(y);
+      for (int x = 0; x < w; ++x) {
+        if (format.depth == DepthFormat::unorm16) {
+          const std::uint16_t code = static_cast<std::uint16_t>(formats::float_to_unorm(d[x], 16));
+          std::memcpy(out + 2 * x, &code, sizeof code);
+        } else {  // unorm24_s8: depth in bits 0-23, stencil in bits 24-31
+          const std::uint32_t word = formats::float_to_unorm(d[x], 24) | static_cast<std::uint32_t>(object[x]) << 24;
+          std::memcpy(out + 4 * x, &word, sizeof word);
+        }
+      }
+    }
+    frame->source.depth_buffer = DepthBuffer::of(format.depth, frame->depth->bytes.get(), w, h, frame->depth->stride);
+  }
+  return *frame;
+}
+
 // --- The reprojection benchmarks ---------------------------------------------------------------
 
 struct Case {
@@ -207,6 +333,7 @@ struct Case {
   bool fixed_near = false;  // max_negative_parallax = |a| / 2, as engines set it, not the frame's own
   bool pair = false;
   bool two_calls = false;  // a pair as two single-eye calls (the baseline reproject_pair must beat)
+  const PixelFormat* format = nullptr;  // an engine-native frame, colour output only (not with pair)
   bool warmed = false;
 };
 
@@ -237,8 +364,7 @@ void report_rates(benchmark::State& state, double wall_seconds, std::int64_t pix
 }
 
 void bm_reproject(benchmark::State& state, Case* c) {
-  const Source& source = source_frame(c->size, c->layout);
-  const SourceView source_view = source.view();
+  const SourceView source_view = c->format ? format_frame(c->size, *c->format).source : source_frame(c->size, c->layout).view();
   const ParallaxModel model =
       c->separation_px ? model_for_separation(c->size.width, *c->separation_px) : default_model(c->size.width);
   Options options;
@@ -246,7 +372,7 @@ void bm_reproject(benchmark::State& state, Case* c) {
   options.arch = c->arch;
   options.threads = c->threads;
   if (c->fixed_near) options.max_negative_parallax = 0.5f * std::fabs(model.a);
-  const TargetView eye = output_frame(c->size, c->layout, 0).view();
+  const TargetView eye = c->format ? format_frame(c->size, *c->format).target : output_frame(c->size, c->layout, 0).view();
   const TargetView other_eye = c->pair ? output_frame(c->size, c->layout, 1).view() : TargetView{};
   const DepthDecoder& decoder = the_decoder();
 
@@ -275,7 +401,7 @@ void bm_reproject(benchmark::State& state, Case* c) {
     benchmark::DoNotOptimize(status);
   }
   const std::int64_t pixels = static_cast<std::int64_t>(c->size.width) * c->size.height * (c->pair ? 2 : 1);
-  report_rates(state, clock.seconds(), pixels, bytes_per_pixel(c->layout));
+  report_rates(state, clock.seconds(), pixels, c->format ? bytes_per_pixel(*c->format) : bytes_per_pixel(c->layout));
 }
 
 std::string size_name(Size size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
@@ -401,6 +527,54 @@ void bm_roofline(benchmark::State& state, Size size, int threads, Layout layout)
   report_rates(state, clock.seconds(), pixels, bytes_per_pixel(layout));
 }
 
+// The same for a `<colour>+<depth>` frame: copy each colour row to the output, and read each depth
+// row (summed, so that the reads cannot be dropped): the bytes a colour-only call touches.
+std::uint64_t sum_words(const std::uint8_t* bytes, std::size_t count) {
+  std::uint64_t sum = 0;
+  std::size_t i = 0;
+  for (; i + 8 <= count; i += 8) {
+    std::uint64_t word;
+    std::memcpy(&word, bytes + i, sizeof word);
+    sum += word;
+  }
+  for (; i < count; ++i) sum += bytes[i];
+  return sum;
+}
+
+void bm_roofline_format(benchmark::State& state, Size size, int threads, const PixelFormat* format) {
+  const FormatFrame& frame = format_frame(size, *format);
+  const ColorView& in = frame.source.color;
+  const MutableColorView& out = frame.target.color;
+  const bool float_colour = format->color == ColorFormat::float32;
+  const bool float_depth = format->depth == DepthFormat::float32;
+  const std::size_t colour_row_bytes = static_cast<std::size_t>(size.width) * color_bytes(*format);
+  const std::size_t depth_row_bytes = static_cast<std::size_t>(size.width) * depth_bytes(*format);
+
+  const std::function<void(int, int)> rows = [&](int begin, int end) {
+    std::uint64_t sum = 0;
+    for (int y = begin; y < end; ++y) {
+      if (float_colour) {
+        std::memcpy(out.plane[0].row(y), in.plane[0].row(y), colour_row_bytes);
+      } else {
+        std::memcpy(out.pixels.row(y), in.pixels.row(y), colour_row_bytes);
+      }
+      const void* depth = float_depth ? static_cast<const void*>(frame.source.depth.row(y))
+                                      : static_cast<const void*>(frame.source.depth_buffer.row(y));
+      sum += sum_words(static_cast<const std::uint8_t*>(depth), depth_row_bytes);
+    }
+    benchmark::DoNotOptimize(sum);
+  };
+  RowTeam team(threads);
+  team.run(size.height, rows);  // untimed: wakes the helper once
+  const WallClock clock;
+  for (auto _ : state) {
+    team.run(size.height, rows);
+    benchmark::ClobberMemory();
+  }
+  const std::int64_t pixels = static_cast<std::int64_t>(size.width) * size.height;
+  report_rates(state, clock.seconds(), pixels, bytes_per_pixel(*format));
+}
+
 void register_roofline(Size size, int threads, Layout layout, const std::string& suffix) {
   const std::string name = "roofline/" + size_name(size) + "/threads:" + std::to_string(threads) + suffix;
   finish(benchmark::RegisterBenchmark(name.c_str(), bm_roofline, size, threads, layout));
@@ -459,6 +633,28 @@ void register_all() {
   Case fixed_near;
   fixed_near.fixed_near = true;
   register_methods(fixed_near, "/near:fixed");
+  // Engine-native formats at 1080p, colour output only: every method on the best arch and on
+  // AVX2 (the other archs add run time, not information), after each format's roofline.
+  std::vector<Arch> format_archs;
+  if (arch_supported(Arch::avx2)) format_archs.push_back(Arch::avx2);
+  if (archs.back() != Arch::avx2) format_archs.push_back(archs.back());
+  for (int threads : kThreadCounts) {
+    for (const PixelFormat& format : kPixelFormats) {
+      const std::string suffix = std::string("/") + format.name;
+      const std::string roof = "roofline/" + size_name(kFullHd) + "/threads:" + std::to_string(threads) + suffix;
+      finish(benchmark::RegisterBenchmark(roof.c_str(), bm_roofline_format, kFullHd, threads, &format));
+      for (Method method : kMethods) {
+        for (Arch arch : format_archs) {
+          Case c;
+          c.method = method;
+          c.arch = arch;
+          c.threads = threads;
+          c.format = &format;
+          register_case(c, suffix);
+        }
+      }
+    }
+  }
   // In cache: one colour plane at 512x512, march16 on every arch.
   register_roofline(kInCache, 1, Layout::grey, "/grey");
   for (Arch arch : archs) {
@@ -493,6 +689,11 @@ void add_context() {
                 static_cast<long long>(bytes_per_pixel(Layout::planar_rgba)),
                 static_cast<long long>(bytes_per_pixel(Layout::grey)));
   benchmark::AddCustomContext("reproject_bytes_per_pixel", text);
+  std::string formats;
+  for (const PixelFormat& format : kPixelFormats) {
+    formats += std::string(formats.empty() ? "" : ", ") + format.name + " " + std::to_string(bytes_per_pixel(format));
+  }
+  benchmark::AddCustomContext("reproject_format_bytes_per_pixel", formats + " (bytes/px, colour output only)");
 }
 
 }  // namespace

@@ -10,9 +10,11 @@ string(REPLACE "\n" ";" names "${listing}")
 list(FILTER names EXCLUDE REGEX "^$")
 list(LENGTH names count)
 set(method "(pair_)?(scanline|march16|single|secant|exact)/(scalar|sse|avx2|avx512)")
+# Engine-native frames: /<colour>+<depth> (rgba32f+float is the float baseline).
+set(format "(rgba32f\\+float|rgba8\\+unorm24_s8|rgba8_srgb\\+float|rgba16f\\+float|rgba8\\+unorm16)")
 foreach(name IN LISTS names)
-  if(NOT name MATCHES "^${method}/[0-9]+x[0-9]+/threads:[12](/sep:(8|32|128)|/rgba|/grey|/near:fixed|/two_calls)?$"
-     AND NOT name MATCHES "^roofline/[0-9]+x[0-9]+/threads:[12](/rgba|/grey)?$")
+  if(NOT name MATCHES "^${method}/[0-9]+x[0-9]+/threads:[12](/sep:(8|32|128)|/rgba|/grey|/near:fixed|/two_calls|/${format})?$"
+     AND NOT name MATCHES "^roofline/[0-9]+x[0-9]+/threads:[12](/rgba|/grey|/${format})?$")
     message(FATAL_ERROR "benchmark name out of form: '${name}'")
   endif()
 endforeach()
@@ -22,7 +24,10 @@ foreach(required
     roofline/512x512/threads:1/grey march16/scalar/512x512/threads:1/grey
     march16/scalar/1920x1080/threads:2 scanline/scalar/1920x1080/threads:1/sep:128
     exact/scalar/3840x2160/threads:1 single/scalar/1920x1080/threads:2/rgba
-    pair_secant/scalar/1920x1080/threads:2 exact/scalar/1920x1080/threads:1/near:fixed)
+    pair_secant/scalar/1920x1080/threads:2 exact/scalar/1920x1080/threads:1/near:fixed
+    roofline/1920x1080/threads:1/rgba32f+float roofline/1920x1080/threads:2/rgba8+unorm24_s8
+    roofline/1920x1080/threads:2/rgba8_srgb+float roofline/1920x1080/threads:2/rgba16f+float
+    roofline/1920x1080/threads:2/rgba8+unorm16)
   list(FIND names "${required}" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "benchmark missing: ${required}")

@@ -35,6 +35,12 @@ THREADS = [1, 2]
 GREY_SIZE = "512x512"
 FLAT_METHODS = ["march16", "single", "secant", "exact"]  # targets: flat in resolution and separation
 FLAT_TOLERANCE = 0.15
+# Engine-native frames (`/<colour>+<depth>`, 1080p, colour output only), with their bytes per pixel
+# (colour in + depth in + colour out); the first is the float baseline the others are compared with.
+FORMATS = [("rgba32f+float", 36), ("rgba8+unorm24_s8", 12), ("rgba8_srgb+float", 12), ("rgba16f+float", 20),
+           ("rgba8+unorm16", 10)]
+FLOAT_FORMAT = FORMATS[0][0]
+PACKED_FORMAT = "rgba8+unorm24_s8"  # the issue's targets: an engine's RGBA8 back buffer and D24S8 depth
 
 
 # --- Running -----------------------------------------------------------------------------------
@@ -340,10 +346,12 @@ def write_page(data, json_path, doc_path):
     w("(each benchmark times its own loop). Mpix/s counts target pixels (both eyes for `pair_`). \"÷ roofline\" is the")
     w("kernel's time divided by the time of `roofline` at the same size and thread count: a plain")
     w("row copy of exactly the bytes one eye must touch (read depth + colour, write colour + depth +")
-    w("status: 41 B/px for RGBA, 17 B/px for one grey plane), i.e. the memory-speed limit.")
+    w("status: 41 B/px for RGBA, 17 B/px for one grey plane; for the engine-format cases, read colour + depth")
+    w("and write colour, in their own section), i.e. the memory-speed limit.")
     w("")
     w("Benchmark names are those of `bench/bench_reproject.cpp` (`<method>/<arch>/<W>x<H>/threads:<n>[/sep:<px>|/rgba|/grey]`,")
-    w("`pair_<method>/...`, `roofline/...`). Times and rates are wall-clock.")
+    w("`<method>/<arch>/1920x1080/threads:<n>/<colour>+<depth>`, `pair_<method>/...`, `roofline/...`). Times and rates are")
+    w("wall-clock.")
     w("Rerun a subset with e.g. `python3 bench/run_benchmarks.py --filter 'march16/avx2'` (the page then shows")
     w("only what ran).")
     w("")
@@ -392,6 +400,7 @@ def write_page(data, json_path, doc_path):
         w("* Noise: median coefficient of variation over the repetitions %.1f %%, worst %.1f %%." % (
             100 * statistics.median(cvs), 100 * max(cvs)))
     w("")
+    os.makedirs(os.path.dirname(os.path.abspath(doc_path)), exist_ok=True)
     png = os.path.join(os.path.dirname(os.path.abspath(doc_path)), "performance.png")
     if draw_chart(r, present, cpu.get("model", "unknown CPU"), png):
         w("![Mpix/s per method and instruction set at 1 and 2 threads, 1080p planar RGBA, with the roofline](%s)"
@@ -499,6 +508,32 @@ def write_page(data, json_path, doc_path):
                 method, threads, "s" if threads > 1 else ""),
                 "%s (%s: %s Mpix/s)" % (pct(value), arch, " / ".join(fmt(v) for v in values)),
                 None if value is None else value <= FLAT_TOLERANCE)
+
+    # Engine-native formats (issue 13): rgba8+unorm24_s8 against its roofline and the float baseline.
+    def format_figures(method, fmt_name, threads=2):
+        """(arch, ms, time ÷ the format's roofline, speed-up over the same method on float RGBA), best arch each."""
+        suffix = "/" + fmt_name
+        arch = best_arch(method, threads=threads, suffix=suffix)
+        float_arch = best_arch(method, threads=threads, suffix="/" + FLOAT_FORMAT)
+        ms = r.ms(name(method, arch, FULL_HD, threads, suffix)) if arch else None
+        float_ms = r.ms(name(method, float_arch, FULL_HD, threads, "/" + FLOAT_FORMAT)) if float_arch else None
+        return arch, ms, ratio(ms, r.ms(roofline(FULL_HD, threads, suffix))), ratio(float_ms, ms)
+
+    format_targets = {}  # (method, format) -> [(text, verdict)], for the formats table
+
+    def format_target(method, fmt_name, text, value_text, met):
+        target(text, value_text, met)
+        format_targets.setdefault((method, fmt_name), []).append((text.split(": ")[-1], targets[-1][2]))
+
+    for method in ("single", "march16"):
+        arch, _, value, _ = format_figures(method, PACKED_FORMAT)
+        format_target(method, PACKED_FORMAT, "%s on %s, 2 threads, 1080p: time ≤ 1.3× its roofline" % (method, PACKED_FORMAT),
+                      "%s× (%s)" % (fmt(value, 2), arch or "–"), None if value is None else value <= 1.3)
+    for method, limit in (("single", 2.0), ("march16", 2.0), ("exact", 1.5), ("secant", 1.5)):
+        arch, _, _, value = format_figures(method, PACKED_FORMAT)
+        format_target(method, PACKED_FORMAT, "%s on %s, 2 threads, 1080p: ≥ %.1f× faster than on float RGBA" % (
+                          method, PACKED_FORMAT, limit),
+                      "%s× (%s)" % (fmt(value, 2), arch or "–"), None if value is None else value >= limit)
 
     w("## Targets")
     w("")
@@ -659,6 +694,39 @@ def write_page(data, json_path, doc_path):
                          fmt(r.ms(f2), 2), fmt(ratio(r.ms(f2), r.ms(name(method, arch, FULL_HD, 2))), 2)])
     w(table(["method", "arch", "ms 1T", "÷ own 1T", "ms 2T", "÷ own 2T"], rows, ["l", "l"] + ["r"] * 4))
     w("")
+
+    # --- Engine-native formats ---
+    w("## Engine-native pixel formats (`/<colour>+<depth>`, 1080p, 2 threads, best arch)")
+    w("")
+    w("The scene converted once, at set-up, to each engine format (`formats::` helpers; D24S8's stencil holds")
+    w("the object id), colour output only, in the source's format: an engine's other eye. Each format's")
+    w("roofline (`roofline/1920x1080/threads:<n>/<colour>+<depth>`) reads its colour and depth and writes its")
+    w("colour, the bytes per pixel in each heading. \"× float\" is the time of the same method on")
+    w("`%s` (interleaved float RGBA + float depth, best arch) over this one: above 1 the format is" % FLOAT_FORMAT)
+    w("faster. The cases run on AVX2 and the best arch only; rerun one format with e.g.")
+    w("`--filter '/rgba8\\+unorm24_s8$'` (`+` is a regex operator). Measured on %s." % cpu.get("model", "unknown CPU"))
+    w("")
+    ran = [f for f, _ in FORMATS if any(n.endswith("/" + f) for n in r.rows)]
+    if not ran:
+        w("*This run has no `/<colour>+<depth>` results (its binary predates them, or the filter left them out).*")
+        w("")
+    for fmt_name, bpp in [f for f in FORMATS if f[0] in ran]:
+        rf = roofline(FULL_HD, 2, "/" + fmt_name)
+        w("**%s** — %d B/px; roofline %s ms (%s GB/s) at 2 threads, %s ms at 1 thread" % (
+            fmt_name, bpp, fmt(r.ms(rf), 2), fmt(r.gbs(rf), 1), fmt(r.ms(roofline(FULL_HD, 1, "/" + fmt_name)), 2)))
+        w("")
+        rows = []
+        for method in METHODS:
+            arch, ms, roof, speedup = format_figures(method, fmt_name)
+            n2 = name(method, arch, FULL_HD, 2, "/" + fmt_name) if arch else None
+            arch1 = best_arch(method, threads=1, suffix="/" + fmt_name)
+            ms1 = r.ms(name(method, arch1, FULL_HD, 1, "/" + fmt_name)) if arch1 else None
+            marks = "; ".join("%s **%s**" % tv for tv in format_targets.get((method, fmt_name), [])) or "–"
+            rows.append([method, arch or "–", fmt(ms, 2), fmt(r.mpix(n2) if n2 else None), fmt(roof, 2),
+                         fmt(speedup, 2), fmt(ms1, 2), marks])
+        w(table(["method", "arch", "ms 2T", "Mpix/s 2T", "÷ roofline 2T", "× float 2T", "ms 1T", "targets"], rows,
+                ["l", "l"] + ["r"] * 5 + ["l"]))
+        w("")
 
     # --- Observations: computed, so they stay true when the numbers change ---
     w("## Observations")

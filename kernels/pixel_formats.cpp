@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace reproject {
 namespace detail {
@@ -112,10 +113,12 @@ float srgb_to_linear(std::uint8_t byte) noexcept { return detail::srgb_tables().
 std::uint8_t linear_to_srgb(float linear) noexcept { return detail::srgb_encode(detail::srgb_tables(), linear); }
 
 float unorm_to_float(std::uint32_t code, int bits) noexcept {
-  return detail::unorm_value(code, bits == 16 ? detail::kUnorm16Max : detail::kUnorm24Max);
+  if (bits < 1 || bits > 24) return std::numeric_limits<float>::quiet_NaN();
+  return detail::unorm_value(code, static_cast<float>((1u << bits) - 1u));
 }
 std::uint32_t float_to_unorm(float value, int bits) noexcept {
-  return detail::unorm_code(value, bits == 16 ? detail::kUnorm16Max : detail::kUnorm24Max);
+  if (bits < 1 || bits > 24) return 0;
+  return detail::unorm_code(value, static_cast<float>((1u << bits) - 1u));
 }
 float packed_linear_value(const std::uint8_t rgb[3]) noexcept {
   const std::uint32_t word = rgb[0] | (static_cast<std::uint32_t>(rgb[1]) << 8) | (static_cast<std::uint32_t>(rgb[2]) << 16);

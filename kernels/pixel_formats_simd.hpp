@@ -213,8 +213,9 @@ __attribute__((always_inline)) inline IntLanes<Arch> blend_rgba8(const Frame& f,
   using I = IntLanes<Arch>;
   I out(0);
   for (int c = 0; c < 4; ++c) {
-    const I b0 = (w0 >> (8 * c)) & I(0xff);
-    const I b1 = (w1 >> (8 * c)) & I(0xff);
+    // (A shift of 24 leaves the sign bits of an arithmetic shift: masked like the others.)
+    const I b0 = c == 0 ? w0 & I(0xff) : (w0 >> (8 * c)) & I(0xff);
+    const I b1 = c == 0 ? w1 & I(0xff) : (w1 >> (8 * c)) & I(0xff);
     I byte;
     if (Srgb && c < 3) {
       const F l0 = gather<Arch>(f.srgb->to_linear, b0);
@@ -229,8 +230,8 @@ __attribute__((always_inline)) inline IntLanes<Arch> blend_rgba8(const Frame& f,
       const F next = gather<Arch>(f.srgb->bucket_next, bucket);
       byte = first + xsimd::to_int(xsimd::select(l >= next, F(1.0f), F(0.0f)));
     } else {
-      const F c0 = xsimd::to_float(b0);
-      byte = xsimd::nearbyint_as_int(vmadd<Fma>(frac, xsimd::to_float(b1) - c0, c0));
+      // float(b1 - b0) is float(b1) - float(b0) exactly (small integers): one conversion fewer.
+      byte = xsimd::nearbyint_as_int(vmadd<Fma>(frac, xsimd::to_float(b1 - b0), xsimd::to_float(b0)));
     }
     out = out | (byte << (8 * c));
   }

@@ -89,8 +89,9 @@ float srgb_to_linear(std::uint8_t byte) noexcept;   // the exact value rounded t
 // The byte whose sRGB value is nearest to `linear` (ties: away from zero on the 255 scale, which
 // the exact sRGB curve never meets at a float); values outside [0, 1] and NaN clamp (NaN to 0).
 std::uint8_t linear_to_srgb(float linear) noexcept;
-// The stored value d of a D16 / D24 code, and the code of a stored value (round to nearest even,
-// clamped to the format's range; NaN gives 0).
+// UNORM codes of 1..24 bits (8: a colour byte, 16: D16, 24: D24): the value code / (2^bits - 1),
+// correctly rounded, and the code of a value (value * (2^bits - 1) rounded to nearest even,
+// clamped to [0, 2^bits - 1]; NaN gives 0). Other `bits` give NaN and 0.
 float unorm_to_float(std::uint32_t code, int bits) noexcept;
 std::uint32_t float_to_unorm(float value, int bits) noexcept;
 // rgba8_packed_linear: v of the R, G, B bytes, and the bytes of v (round to nearest 1/16581375,
