@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Writes the seed corpora of the file-reader harnesses (fuzz/corpus/{png,pfm,exr}/): small valid
 files of every form each reader handles, and a few broken ones next to them, so that a fuzzing
-run starts from deep inside each format instead of having to discover its signature and header.
+run starts from deep inside each format instead of having to discover its signature and header;
+the named inputs of the CLI and warp harnesses; and fuzz_formats' inputs (fuzz/corpus/formats/):
+every colour format x depth format as a valid frame, and one input per fault the harness injects.
 Standard library only; deterministic (re-running it rewrites the same bytes).
 
     python3 fuzz/make_seeds.py            # from the repository root
@@ -203,7 +205,138 @@ def cli_seeds():
         write("cli", name, b"\x00".join(w.encode() for w in words))
 
 
+# ---- fuzz_formats: the harness's choices, encoded as FuzzedDataProvider reads them ---------------
+
+class Provider:
+    """Mirrors FuzzedDataProvider for the calls fuzz_formats.cpp makes, in its order: integers are
+    read from the end of the input (the byte read first is the last one of the file, most
+    significant first), the pixel bytes are the rest, from the start."""
+
+    def __init__(self):
+        self.consumed = []
+
+    def range(self, low, high, value):
+        assert low <= value <= high, (low, high, value)
+        span, offset, n = high - low, 0, 0
+        while offset < 32 and (span >> offset) > 0:
+            n += 1
+            offset += 8
+        x = value - low
+        self.consumed += [(x >> (8 * (n - 1 - i))) & 0xFF for i in range(n)]
+
+    def boolean(self, value):
+        self.consumed.append(1 if value else 0)
+
+    def input(self, pixels):
+        return bytes(pixels) + bytes(reversed(self.consumed))
+
+
+COLOUR_KINDS = {"rgba8": 0, "rgba8_srgb": 2, "rgba16f": 4, "float_rgba": 6, "float_planar": 7}
+DEPTH_KINDS = {"float_plane": 0, "float32": 1, "unorm16": 2, "unorm24_s8": 4, "s8_unorm24": 6, "packed_linear": 8}
+FAULTS = ["none", "target_color_format", "source_color_unknown", "target_color_unknown", "source_depth_unknown",
+          "target_depth_format", "source_both_depths", "target_both_depths", "target_float_depth", "stride_too_small",
+          "float_depth_misaligned", "packed_range", "size_off", "null_data", "color_shape", "guard_too_wide",
+          "bad_option", "color_layout_unknown", "aliasing"]
+
+
+def formats_input(colour, depth, width, height, method, guard=0, api=0, colour_mode=0, depth_mode=2, fault="none",
+                  variant=0, pad=3, offset=1, threads=1, edge=0, hole_fill=0, convergence=2, seed=0):
+    """One frame: a standard decoder (near 1, far 100; linear for packed depth), a stereo model
+    (separation 0.03, convergence 2 or 10, left to right), every output present."""
+    p = Provider()
+    small = width <= 40
+    p.boolean(small)
+    p.range(0, 40 if small else 300, width)
+    p.range(0, 8, height)
+    kind = COLOUR_KINDS[colour]
+    p.range(0, 7, kind)
+    if kind == 7:
+        p.range(1, 4, 3)
+    float_colour = kind >= 6
+    p.range(0, 3 if float_colour else 9, pad % 4 if float_colour else pad)  # source colour pad
+    p.range(0, 7, offset)                                                     # its base offset
+    dkind = DEPTH_KINDS[depth]
+    p.range(0, 9, dkind)
+    float_depth = dkind <= 1
+    p.range(0, 3 if float_depth else 9, pad % 4 if float_depth else pad)
+    p.range(0, 7, offset + 2)
+    if depth == "packed_linear":
+        p.range(0, 8, 1)  # range 0.5 .. 40
+    p.range(0, 3 if float_colour else 9, (pad + 1) % 4 if float_colour else (pad + 1) % 10)  # target colour
+    p.range(0, 7, offset + 1)
+    p.boolean(True)  # output depth
+    if float_depth:
+        p.range(0, 3, 1)  # same kind as the source
+    p.range(0, 3 if float_depth else 9, (pad + 2) % 4 if float_depth else (pad + 2) % 10)
+    p.range(0, 7, offset + 3)
+    p.range(0, 3, 1)  # the output's range fields: the source's
+    p.range(0, 3, 1)  # status
+    p.boolean(True)   # source_x
+    p.range(0, 9, pad)
+    p.range(0, 3, 1)
+    p.range(0, 3, api)
+    p.range(0, 2, colour_mode)
+    p.range(0, 2, depth_mode)
+    if depth == "packed_linear":
+        p.range(0, 7, 0)  # linear
+    else:
+        p.range(0, 7, 2)  # from_near_far
+        p.range(0, 7, 1)  # standard
+        p.range(0, 5, 2)  # near 1
+        p.range(0, 5, 2)  # far 100 near
+    p.range(0, 4, 0)      # left to right
+    p.range(0, 3, 0)      # stereo
+    p.range(0, 5, 2)      # separation 0.03
+    p.range(0, 5, {2: 2, 10: 3}[convergence])
+    p.range(0, 4, method)
+    p.range(0, 2, hole_fill)
+    p.range(0, 3, edge)
+    p.range(0, 4, 0)      # hole threshold 1
+    p.boolean(False)      # max_negative_parallax: the frame's
+    p.boolean(False)      # probe_parallax
+    p.boolean(False)      # march_steps
+    p.boolean(False)      # secant_max_steps
+    p.boolean(False)      # arch: the selected one
+    p.boolean(threads == 2)
+    p.boolean(guard == 0)
+    if guard:
+        p.range(0, max(0, (width - 1) // 2), guard)
+    count = len(FAULTS)
+    p.range(0, 2 * count - 2, 0 if fault == "none" else FAULTS.index(fault) + count - 1)
+    p.range(0, 59, variant)
+    state = 0x9E3779B9 ^ (seed * 0x85EBCA6B) & 0xFFFFFFFF  # xorshift32: the same bytes on any Python
+    pixels = []
+    for _ in range(640):
+        state ^= (state << 13) & 0xFFFFFFFF
+        state ^= state >> 17
+        state ^= (state << 5) & 0xFFFFFFFF
+        pixels.append(state & 0xFF)
+    return p.input(pixels)
+
+
+def formats_seeds():
+    methods = ["scanline", "march16", "single", "secant", "exact"]
+    n = 0
+    for colour in COLOUR_KINDS:
+        for depth in DEPTH_KINDS:
+            method = n % 5
+            width = [64, 97, 130, 33, 150][n % 5]
+            write("formats", "%s+%s_%s" % (colour, depth, methods[method]),
+                  formats_input(colour, depth, width, 3 + n % 3, method, guard=n % 3 * 2, api=n % 4,
+                                colour_mode=n % 3 if colour.startswith("float") or colour == "rgba16f" else 0,
+                                depth_mode=2 if n % 4 else 1, edge=n % 4, hole_fill=n % 3, threads=1 + n % 2,
+                                pad=n % 10, offset=n % 5, convergence=10 if n % 2 else 2, seed=n))
+            n += 1
+    for i, fault in enumerate(FAULTS[1:]):
+        colour = list(COLOUR_KINDS)[i % 5]
+        depth = {"float_depth_misaligned": "float32", "packed_range": "packed_linear", "target_float_depth": "unorm16",
+                 "source_depth_unknown": "s8_unorm24"}.get(fault, list(DEPTH_KINDS)[i % 6])
+        write("formats", "fault_" + fault, formats_input(colour, depth, 24, 2, i % 5, fault=fault, variant=i % 2,
+                                                         pad=i % 10, seed=100 + i))
+
+
 if __name__ == "__main__":
+    formats_seeds()
     cli_seeds()
     png_seeds()
     pfm_seeds()
