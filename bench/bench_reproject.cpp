@@ -256,10 +256,6 @@ struct FormatFrame {
   TargetView target;  // colour only
 };
 
-std::uint8_t unorm8(float value) {
-  return static_cast<std::uint8_t>(std::lround(std::min(std::max(value, 0.0f), 1.0f) * 255.0f));
-}
-
 const FormatFrame& format_frame(Size size, const PixelFormat& format) {
   static std::map<std::tuple<int, int, std::string>, std::unique_ptr<FormatFrame>> cache;
   std::unique_ptr<FormatFrame>& frame = cache[{size.width, size.height, format.name}];
@@ -287,7 +283,7 @@ const FormatFrame& format_frame(Size size, const PixelFormat& format) {
         } else if (format.color == ColorFormat::rgba8_srgb && !alpha) {
           out[i] = formats::linear_to_srgb(rgba[i]);
         } else {
-          out[i] = unorm8(rgba[i]);
+          out[i] = static_cast<std::uint8_t>(reproject::formats::float_to_unorm(rgba[i], 8));
         }
       }
     }

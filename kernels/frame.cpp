@@ -16,9 +16,7 @@ float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi)
 
 // Whether the decode keeps the row's stored depth values for the resolve (frame.hpp, RowScratch).
 bool stores_depth_values(const Frame& f) {
-  // D16 only: the 32-bit formats' resolve reads the depth words themselves (32-bit columns, like
-  // floats) and decodes d in registers.
-  return f.depth_out.data != nullptr && f.depth.format == DepthFormat::unorm16;
+  return f.depth_out.data != nullptr && depth_row_kept(f);
 }
 
 void pad_parallax_row(const Frame& f, float* parallax) {
@@ -150,7 +148,7 @@ void prepare_scratch(const Frame& f, RowScratch& scratch) {
     scratch.clipped.resize(f.target_width);
     scratch.owner_storage.resize(static_cast<std::size_t>(f.target_width) + 2 * kOwnerPad);
   }
-  if (f.depth.format == DepthFormat::unorm16 && scratch.stored_depth.size() < static_cast<std::size_t>(f.source_width))
+  if (depth_row_kept(f) && scratch.stored_depth.size() < static_cast<std::size_t>(f.source_width))
     scratch.stored_depth.resize(f.source_width);
   // `secant` sizes its block table itself on first use; doing it here keeps that first use from
   // allocating inside a row on whichever thread happens to run it.

@@ -105,8 +105,8 @@ inline float madd(float a, float b, float c) noexcept {
   }
 }
 
-// The stored depth value d of column i of a depth row in the frame's format (DepthFormat).
-template <class Fma>
+// The stored depth value d of column i of a depth row in the frame's format (DepthFormat): a
+// function of the bytes alone (no FMA policy).
 inline float depth_value(const Frame& f, const std::uint8_t* row, int i) noexcept {
   switch (f.depth.format) {
     case DepthFormat::unorm16: {
@@ -125,6 +125,10 @@ inline float depth_value(const Frame& f, const std::uint8_t* row, int i) noexcep
   }
   return float_of_bits(load_u32(row + 4 * static_cast<std::ptrdiff_t>(i)));
 }
+
+// D16: the decode keeps the row's stored values in RowScratch::stored_depth for the SIMD resolve
+// (16-bit columns do not fit its column plan); the 32-bit formats' words are read there directly.
+inline bool depth_row_kept(const Frame& f) noexcept { return f.depth.format == DepthFormat::unorm16; }
 
 // The word (or code) that stores depth d in the frame's format; `kept` is the source word whose
 // other bits (D24S8's stencil, the packed format's A byte) go with it.

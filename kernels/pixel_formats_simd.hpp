@@ -82,19 +82,18 @@ xsimd::batch<float, Arch> unorm_values(const IntLanes<Arch>& code) {
   }
 }
 
-// The stored values d of L depth words of a 32-bit format (scalar twin: depth_value).
+// The stored values d of L depth words of a 32-bit integer format (scalar twin: depth_value).
 template <class Arch, class Fma, DepthFormat Format>
 xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<Arch>& word) {
   using F = typename Lanes<Arch>::F;
   using I = IntLanes<Arch>;
-  if constexpr (Format == DepthFormat::float32) return float_bits<Arch>(word);
+  static_assert(Format != DepthFormat::float32 && Format != DepthFormat::unorm16, "32-bit integer words only");
   if constexpr (Format == DepthFormat::unorm24_s8) return unorm_values<Arch, Fma, 24>(word & I(0xffffff));
   if constexpr (Format == DepthFormat::s8_unorm24) return unorm_values<Arch, Fma, 24>((word >> 8) & I(0xffffff));
   if constexpr (Format == DepthFormat::rgba8_packed_linear) {
     const I code = (word & I(0xff)) * I(65025) + ((word >> 8) & I(0xff)) * I(255) + ((word >> 16) & I(0xff));
     return (xsimd::to_float(code) / F(kPackedMax)) * F(f.packed_range) + F(f.packed_near);  // never fused
   }
-  if constexpr (Format == DepthFormat::unorm16) return F(0.0f);  // 16-bit: not words (load_depth_values)
 }
 template <class Arch, class Fma>
 __attribute__((always_inline)) inline xsimd::batch<float, Arch> depth_values_of_words(const Frame& f,

@@ -99,7 +99,7 @@ template <class Fma>
 void decode_parallax_columns(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored, int begin,
                              int end) {
   for (int i = begin; i < end; ++i) {
-    const float d = depth_value<Fma>(f, depth, i);
+    const float d = depth_value(f, depth, i);
     parallax[i] = decode_parallax<Fma>(f, d);
     if (stored) stored[i] = d;
   }
@@ -107,7 +107,7 @@ void decode_parallax_columns(const Frame& f, const std::uint8_t* depth, float* p
 
 template <class Fma>
 float nearest_key_in_columns(const Frame& f, const std::uint8_t* depth, int begin, int end, float nearest) {
-  for (int i = begin; i < end; ++i) nearest = std::max(nearest, f.s * decode_parallax<Fma>(f, depth_value<Fma>(f, depth, i)));
+  for (int i = begin; i < end; ++i) nearest = std::max(nearest, f.s * decode_parallax<Fma>(f, depth_value(f, depth, i)));
   return nearest;
 }
 
@@ -166,7 +166,7 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
     if (write) {
       color.write(t, j0, j1, frac, black);
       if (depth_out) {
-        const float d = interpolate_depth<Fma>(f, depth_value<Fma>(f, depth_row, j0), depth_value<Fma>(f, depth_row, j1), frac);
+        const float d = interpolate_depth<Fma>(f, depth_value(f, depth_row, j0), depth_value(f, depth_row, j1), frac);
         const std::uint32_t word = depth_word(f, d, depth_bytes == 4 && !float_depth ? load_u32(depth_row + 4 * static_cast<std::ptrdiff_t>(j0)) : 0u);
         if (depth_bytes == 2) {
           const std::uint16_t code = static_cast<std::uint16_t>(word);

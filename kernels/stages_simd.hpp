@@ -141,7 +141,7 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   // registers), or for D16 from the values the decode kept.
   const std::uint8_t* depth_row = f.depth.row(y);
   const bool float_depth = f.depth.format == DepthFormat::float32;
-  const bool depth_words_read = f.depth.format != DepthFormat::unorm16;
+  const bool depth_words_read = !depth_row_kept(f);
   const float* depth = depth_words_read ? reinterpret_cast<const float*>(depth_row) : scratch.stored_depth.data();
   const int depth_bytes = bytes_per_pixel(f.depth.format);
   std::uint8_t* depth_out = f.depth_out.data ? f.depth_out.row(y) : nullptr;

@@ -311,9 +311,13 @@ struct Outputs {
   std::ptrdiff_t color_stride = 0, depth_stride = 0;
 };
 
-// Runs the frame in its formats (native) or as float (the float path), outputs pre-filled.
-Status run(const detail::KernelTable* kernels, const Frames& fr, const FormatCase& fc, bool native,
-           const DepthDecoder& decoder, const ParallaxModel& model, const Options& options, Outputs& out) {
+// The views of a frame in its formats (native) or as float (the float path), its outputs sized
+// and pre-filled in `out`.
+struct Views {
+  SourceView source;
+  TargetView target;
+};
+Views make_views(const Frames& fr, const FormatCase& fc, bool native, const Options& options, Outputs& out) {
   const int tw = fr.width - 2 * options.guard;
   const int cbpp = native ? (fc.color == ColorFormat::float32 ? 16 : bytes_per_pixel(fc.color)) : 16;
   const int dbpp = native ? bytes_per_pixel(fc.depth) : 4;
@@ -323,29 +327,34 @@ Status run(const detail::KernelTable* kernels, const Frames& fr, const FormatCas
   out.depth.assign(static_cast<std::size_t>(out.depth_stride) * fr.height + 4, 0xcd);
   out.status.assign(static_cast<std::size_t>(tw) * fr.height, 99);
   out.source_x.assign(static_cast<std::size_t>(tw) * fr.height, -7.0f);
-  SourceView source;
-  TargetView target;
+  Views v;
   if (native && fc.color != ColorFormat::float32) {
-    source.color = ColorView::packed(fc.color, fr.color_b.data() + 1, fr.width, fr.height, fr.color_stride);
-    target.color = MutableColorView::packed(fc.color, out.color.data(), tw, fr.height, out.color_stride);
+    v.source.color = ColorView::packed(fc.color, fr.color_b.data() + 1, fr.width, fr.height, fr.color_stride);
+    v.target.color = MutableColorView::packed(fc.color, out.color.data(), tw, fr.height, out.color_stride);
   } else {
-    source.color = ColorView::rgba(fr.color_f.data(), fr.width, fr.height, fr.width * 4);
-    target.color = MutableColorView::rgba(reinterpret_cast<float*>(out.color.data()), tw, fr.height, out.color_stride / 4);
+    v.source.color = ColorView::rgba(fr.color_f.data(), fr.width, fr.height, fr.width * 4);
+    v.target.color = MutableColorView::rgba(reinterpret_cast<float*>(out.color.data()), tw, fr.height, out.color_stride / 4);
   }
   if (native && fc.depth != DepthFormat::float32) {
-    source.depth_buffer = DepthBuffer::of(fc.depth, fr.depth_b.data() + 1, fr.width, fr.height, fr.depth_stride);
-    source.depth_buffer.linear_near = fr.packed_near;
-    source.depth_buffer.linear_far = fr.packed_far;
-    target.depth_buffer = MutableDepthBuffer::of(fc.depth, out.depth.data(), tw, fr.height, out.depth_stride);
-    target.depth_buffer.linear_near = fr.packed_near;  // (not read for outputs)
+    v.source.depth_buffer = DepthBuffer::of(fc.depth, fr.depth_b.data() + 1, fr.width, fr.height, fr.depth_stride);
+    v.source.depth_buffer.linear_near = fr.packed_near;
+    v.source.depth_buffer.linear_far = fr.packed_far;
+    v.target.depth_buffer = MutableDepthBuffer::of(fc.depth, out.depth.data(), tw, fr.height, out.depth_stride);
   } else {
-    source.depth = FloatPlane{fr.depth_f.data(), fr.width, fr.height, fr.width};
-    target.depth = MutableFloatPlane{reinterpret_cast<float*>(out.depth.data()), tw, fr.height, out.depth_stride / 4};
+    v.source.depth = FloatPlane{fr.depth_f.data(), fr.width, fr.height, fr.width};
+    v.target.depth = MutableFloatPlane{reinterpret_cast<float*>(out.depth.data()), tw, fr.height, out.depth_stride / 4};
   }
-  target.status = BytePlane{out.status.data(), tw, fr.height, tw};
-  target.source_x = MutableFloatPlane{out.source_x.data(), tw, fr.height, tw};
-  if (kernels) return detail::reproject_with(*kernels, source, decoder, model, options, target);
-  return reproject(source, decoder, model, options, target);
+  v.target.status = BytePlane{out.status.data(), tw, fr.height, tw};
+  v.target.source_x = MutableFloatPlane{out.source_x.data(), tw, fr.height, tw};
+  return v;
+}
+
+// Runs the frame in its formats (native) or as float (the float path), outputs pre-filled.
+Status run(const detail::KernelTable* kernels, const Frames& fr, const FormatCase& fc, bool native,
+           const DepthDecoder& decoder, const ParallaxModel& model, const Options& options, Outputs& out) {
+  const Views v = make_views(fr, fc, native, options, out);
+  if (kernels) return detail::reproject_with(*kernels, v.source, decoder, model, options, v.target);
+  return reproject(v.source, decoder, model, options, v.target);
 }
 
 const FormatCase kCases[] = {
@@ -523,38 +532,14 @@ TEST(PixelFormats, PairEqualsTwoSingleCalls) {
         ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, ParallaxModel{-right.a, -right.b}, options, single[0]).ok());
         ASSERT_TRUE(run(nullptr, fr, fc, true, decoder, right, options, single[1]).ok());
         // The pair: the same views as run() builds, with both targets.
-        auto views = [&](Outputs& out, SourceView& source, TargetView& target) {
-          run(nullptr, fr, fc, true, decoder, right, options, out);  // sizes and fills out's buffers
-          const int tw = fr.width - 2 * options.guard;
-          std::fill(out.color.begin(), out.color.end(), 0xab);
-          std::fill(out.depth.begin(), out.depth.end(), 0xcd);
-          std::fill(out.status.begin(), out.status.end(), 99);
-          source.color = fc.color == ColorFormat::float32
-                             ? ColorView::rgba(fr.color_f.data(), fr.width, fr.height, fr.width * 4)
-                             : ColorView::packed(fc.color, fr.color_b.data() + 1, fr.width, fr.height, fr.color_stride);
-          target.color = fc.color == ColorFormat::float32
-                             ? MutableColorView::rgba(reinterpret_cast<float*>(out.color.data()), tw, fr.height, out.color_stride / 4)
-                             : MutableColorView::packed(fc.color, out.color.data(), tw, fr.height, out.color_stride);
-          if (fc.depth == DepthFormat::float32) {
-            source.depth = FloatPlane{fr.depth_f.data(), fr.width, fr.height, fr.width};
-            target.depth = MutableFloatPlane{reinterpret_cast<float*>(out.depth.data()), tw, fr.height, out.depth_stride / 4};
-          } else {
-            source.depth_buffer = DepthBuffer::of(fc.depth, fr.depth_b.data() + 1, fr.width, fr.height, fr.depth_stride);
-            source.depth_buffer.linear_near = fr.packed_near;
-            source.depth_buffer.linear_far = fr.packed_far;
-            target.depth_buffer = MutableDepthBuffer::of(fc.depth, out.depth.data(), tw, fr.height, out.depth_stride);
-          }
-          target.status = BytePlane{out.status.data(), tw, fr.height, tw};
-        };
-        SourceView source;
-        TargetView left, right_target;
-        views(pair[0], source, left);
-        views(pair[1], source, right_target);
-        ASSERT_TRUE(reproject_pair(source, decoder, right, options, left, right_target).ok());
+        const Views left = make_views(fr, fc, true, options, pair[0]);
+        const Views right_views = make_views(fr, fc, true, options, pair[1]);
+        ASSERT_TRUE(reproject_pair(left.source, decoder, right, options, left.target, right_views.target).ok());
         for (int eye = 0; eye < 2; ++eye) {
           ASSERT_EQ(pair[eye].color, single[eye].color) << to_string(fc.color) << "+" << to_string(fc.depth) << " eye " << eye;
           ASSERT_EQ(pair[eye].depth, single[eye].depth) << to_string(fc.color) << "+" << to_string(fc.depth) << " eye " << eye;
           ASSERT_EQ(pair[eye].status, single[eye].status);
+          ASSERT_EQ(0, std::memcmp(pair[eye].source_x.data(), single[eye].source_x.data(), single[eye].source_x.size() * 4));
           ++compared;
         }
       }
