@@ -154,7 +154,8 @@ float first_lane(const xsimd::batch<float, Arch>& v) {
 }
 
 template <class Arch>
-xsimd::batch<float, Arch> permute(const xsimd::batch<float, Arch>& v, const xsimd::batch<std::int32_t, Arch>& index) {
+xsimd::batch<float, Arch> permute([[maybe_unused]] const xsimd::batch<float, Arch>& v,
+                                  [[maybe_unused]] const xsimd::batch<std::int32_t, Arch>& index) {
   static_assert(kHasPermute<Arch>, "permute() needs AVX2 or AVX-512");
 #if defined(__AVX512F__)
   if constexpr (sizeof(v) == 64) return _mm512_permutexvar_ps(index, v);
