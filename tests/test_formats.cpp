@@ -11,6 +11,7 @@
 //   count, and raw buffers (little-endian words, rows packed, exact sizes).
 // Suite Formats: format detection by extension and the generic read/write/depth calls, with their
 //   errors (unknown extension, content not matching the extension, size mismatches).
+// Suite TemporaryFiles: a writer killed by a signal at random moments leaves no temporary file.
 // Suite StereoViews: exact pixels of every packing, both anaglyphs, the status colours and the
 //   heat map on small synthetic inputs.
 #include <gtest/gtest.h>
@@ -35,8 +36,14 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <random>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "imageio/imageio.hpp"
 #include "imageio/stereo_views.hpp"
@@ -799,6 +806,64 @@ TEST(Exr, WriteErrors) {
   // Into a directory that does not exist: nothing is left anywhere.
   status = io::write_exr(temp_path("missing-dir") + "/out.exr", color.color());
   EXPECT_EQ(status.error, io::IoError::write_failed) << status.message;
+}
+
+// ------------------------------------------------------------------------------------------------
+// TemporaryFiles
+
+// A writer's temporary file is known to the signal clean-up for as long as it exists: a child
+// process writes the same small file over and over (create, write, rename), and is killed at
+// random moments; its handler removes what is tracked, as the tool's does. CI once found a
+// temporary left behind by a signal that came between the file's creation and its tracking.
+extern "C" void remove_temporaries_and_exit(int) {
+  io::remove_temporary_files();
+  _exit(0);
+}
+
+TEST(TemporaryFiles, SignalAtAnyMomentOfAWriteLeavesNone) {
+  const std::filesystem::path dir = temp_path("signals");
+  std::filesystem::create_directories(dir);
+  const std::string output = (dir / "out.pfm").string();
+  const Image plane = make_image(8, 4, 1, [](int, int x, int y) { return static_cast<float>(x + 8 * y); });
+  std::mt19937 random(20261124u);
+  int leftovers = 0, writes_done = 0;
+  for (int round = 0; round < 150 && leftovers == 0; ++round) {
+    int ready[2];
+    ASSERT_EQ(::pipe(ready), 0);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      struct sigaction action = {};
+      action.sa_handler = remove_temporaries_and_exit;
+      sigemptyset(&action.sa_mask);
+      sigaction(SIGTERM, &action, nullptr);
+      (void)!::write(ready[1], "r", 1);
+      for (;;) {
+        if (!io::write_depth(output, plane.plane(0)).ok()) _exit(3);
+      }
+    }
+    ::close(ready[1]);
+    char byte = 0;
+    ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+    ::close(ready[0]);
+    std::this_thread::sleep_for(std::chrono::microseconds(200 + random() % 3000));
+    ::kill(child, SIGTERM);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the writer failed or died: " << status;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name == "out.pfm") {
+        ++writes_done;
+        continue;
+      }
+      ++leftovers;
+      ADD_FAILURE() << name << " left after the signal of round " << round;
+    }
+  }
+  EXPECT_GT(writes_done, 0) << "no write finished before its signal";
+  std::error_code ignored;
+  std::filesystem::remove_all(dir, ignored);
 }
 
 // ------------------------------------------------------------------------------------------------

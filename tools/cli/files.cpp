@@ -200,11 +200,13 @@ void OutputSet::make_directory(const std::string& dir) {
     if (p == p.parent_path()) break;
   }
   for (const std::string& level : missing) {
-    if (!fs::create_directory(level, error) && error) {
-      fail(kExitOutput, "cannot create the directory '" + dir + "': " + error.message());
-    }
-    created_dirs_.push_back(level);
-    io::track_temporary(level);  // removed, when still empty, if a signal ends the command
+    // Tracked before it is created (removed, when still empty, if a signal ends the command), so
+    // that no moment exists where it is there but unknown to the signal handler.
+    io::track_temporary(level);
+    const bool created = fs::create_directory(level, error);
+    if (!created) io::untrack_temporary(level);  // failed, or someone else made it meanwhile: not ours
+    if (error) fail(kExitOutput, "cannot create the directory '" + dir + "': " + error.message());
+    if (created) created_dirs_.push_back(level);
   }
 }
 
@@ -234,13 +236,16 @@ void OutputSet::expect(const std::string& flag, const std::string& path) {
   }
   // Reserve the temporary file now: that proves the directory exists and is writable before any
   // work is done, and the name stays ours until commit() or the destructor.
+  // Tracked before it exists, as in create_directories (the name carries our pid).
   const std::string temporary = sibling(path, "tmp", staged_.size());
+  io::track_temporary(temporary);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) {
-    fail(kExitOutput, "cannot write '" + path + "': " + std::strerror(errno));
+    const int code = errno;
+    io::untrack_temporary(temporary);
+    fail(kExitOutput, "cannot write '" + path + "': " + std::strerror(code));
   }
   ::close(fd);
-  io::track_temporary(temporary);
   staged_.push_back({temporary, path, false});
 }
 

@@ -115,8 +115,8 @@ std::string temporary_name(const std::string& destination, int attempt) {
   const auto ticks = static_cast<unsigned long long>(
       std::chrono::steady_clock::now().time_since_epoch().count());
   const unsigned serial = counter.fetch_add(1, std::memory_order_relaxed);
-  return destination + ".tmp" + std::to_string(ticks % 1000000007ULL) + "-" + std::to_string(serial) +
-         "-" + std::to_string(attempt);
+  return destination + ".tmp" + std::to_string(static_cast<long>(::getpid())) + "-" +
+         std::to_string(ticks % 1000000007ULL) + "-" + std::to_string(serial) + "-" + std::to_string(attempt);
 }
 
 }  // namespace
@@ -141,14 +141,18 @@ IoStatus ReplacingFile::create(const std::string& destination) {
   int code = 0;
   for (int attempt = 0; attempt < 8; ++attempt) {
     std::string name = temporary_name(destination, attempt);
+    // Tracked before it exists: a signal between the creation and the tracking would otherwise
+    // leave the file behind (CI once caught one). The name carries our pid, so what the handler
+    // might unlink in that window is never another process's file.
+    track_temporary(name);
     errno = 0;
     file_ = std::fopen(name.c_str(), "wbx");
+    code = errno;
     if (file_ != nullptr) {
       temporary_ = std::move(name);
-      track_temporary(temporary_);
       return {};
     }
-    code = errno;
+    untrack_temporary(name);
     if (code != EEXIST) break;
   }
   return failure(IoError::write_failed, "cannot create a temporary file next to " + quote_path(destination) +
