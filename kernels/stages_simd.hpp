@@ -205,19 +205,20 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
       for (int c = 0; c < planes; ++c) __builtin_prefetch(source[c] + 4 * t + 1024);
     }
     columns.visit([&](const auto& fetch) {
-      if (!interleaved || word_pixels) {
+      auto store_color = [&](int c, const F& value) {
+        store(reinterpret_cast<float*>(target[c] + out_byte), black_edges ? xsimd::select(outside, zero, value) : value);
+      };
+      if (word_pixels) {  // one plane of words (not in the planes' loop: it kept registers on the stack)
+        F c0, c1;
+        fetch(reinterpret_cast<const float*>(source[0]), c0, c1);
+        const auto w0 = bits_of<Arch>(c0), w1 = bits_of<Arch>(c1);
+        store_color(0, float_bits<Arch>(format == ColorFormat::rgba8 ? blend_rgba8<Arch, Fma, false>(f, w0, w1, frac)
+                                                                     : blend_rgba8<Arch, Fma, true>(f, w0, w1, frac)));
+      } else if (!interleaved) {
         for (int c = 0; c < planes; ++c) {
           F c0, c1;
           fetch(reinterpret_cast<const float*>(source[c]), c0, c1);
-          F value;
-          if (format == ColorFormat::rgba8) {
-            value = float_bits<Arch>(blend_rgba8<Arch, Fma, false>(f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac));
-          } else if (format == ColorFormat::rgba8_srgb) {
-            value = float_bits<Arch>(blend_rgba8<Arch, Fma, true>(f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac));
-          } else {
-            value = vmadd<Fma>(frac, c1 - c0, c0);
-          }
-          store(reinterpret_cast<float*>(target[c] + out_byte), black_edges ? xsimd::select(outside, zero, value) : value);
+          store_color(c, vmadd<Fma>(frac, c1 - c0, c0));
         }
       }
       if (depth_out) {

@@ -95,11 +95,12 @@ struct ParallelFor {
 
 // The view being reprojected. Depth and colour have the same size: the target's width plus
 // 2 * guard columns, and its height. Depth is a float plane (`depth`) or a depth buffer in any
-// DepthFormat (`depth_buffer`): set exactly one of them.
+// DepthFormat (`depth_buffer`): set exactly one of them. (Every member has a default, so that
+// brace initialisation of the first few, e.g. SourceView{color, depth}, is warning-free.)
 struct SourceView {
-  ColorView color;
-  FloatPlane depth;
-  DepthBuffer depth_buffer;
+  ColorView color{};
+  FloatPlane depth{};
+  DepthBuffer depth_buffer{};
 };
 
 // Outputs. Colour is required (same channel count, layout and format as the source); depth (same
@@ -108,11 +109,11 @@ struct SourceView {
 // first column, guard band included) are written when their data pointer is non-null. No output
 // may overlap an input or another output.
 struct TargetView {
-  MutableColorView color;
-  MutableFloatPlane depth;
-  BytePlane status;
-  MutableFloatPlane source_x;
-  MutableDepthBuffer depth_buffer;
+  MutableColorView color{};
+  MutableFloatPlane depth{};
+  BytePlane status{};
+  MutableFloatPlane source_x{};
+  MutableDepthBuffer depth_buffer{};
 };
 
 // Reprojects `source` into `target`. Validates everything once, then runs the method over every
