@@ -208,13 +208,15 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
       auto store_color = [&](int c, const F& value) {
         store(reinterpret_cast<float*>(target[c] + out_byte), black_edges ? xsimd::select(outside, zero, value) : value);
       };
-      if (word_pixels) {  // one plane of words (not in the planes' loop: it kept registers on the stack)
+      if (vector_pixels) {
+        // colour done above
+      } else if (word_pixels) {  // one plane of words (not in the planes' loop: it kept registers on the stack)
         F c0, c1;
         fetch(reinterpret_cast<const float*>(source[0]), c0, c1);
         const auto w0 = bits_of<Arch>(c0), w1 = bits_of<Arch>(c1);
         store_color(0, float_bits<Arch>(format == ColorFormat::rgba8 ? blend_rgba8<Arch, Fma, false>(f, w0, w1, frac)
                                                                      : blend_rgba8<Arch, Fma, true>(f, w0, w1, frac)));
-      } else if (!interleaved) {
+      } else {
         for (int c = 0; c < planes; ++c) {
           F c0, c1;
           fetch(reinterpret_cast<const float*>(source[c]), c0, c1);
