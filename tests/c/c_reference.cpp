@@ -102,10 +102,12 @@ extern "C" int reference_warp_buffers(const RefView* source, const RefView* left
   Status status;
   if (left != nullptr) {
     const ParallaxModel model = StereoCamera{0.03, 4.0}.parallax(width, EyeDirection::centre_to_right);
-    status = threads > 0 ? reproject_pair(s, decoder, model, options, l, t) : reproject_pair(s, decoder, model, options, l, t, jobs);
+    status = threads > 0 ? reproject_pair(s, decoder, model, options, l, t)
+                         : reproject_pair(s, decoder, model, options, l, t, jobs);
   } else {
     const ParallaxModel model = StereoCamera{0.03, 4.0}.parallax(width, EyeDirection::left_to_right);
-    status = threads > 0 ? reproject::reproject(s, decoder, model, options, t) : reproject::reproject(s, decoder, model, options, t, jobs);
+    status = threads > 0 ? reproject::reproject(s, decoder, model, options, t)
+                         : reproject::reproject(s, decoder, model, options, t, jobs);
   }
   return status.ok() ? 0 : 1;
 }

@@ -286,6 +286,18 @@ static RefView ref_view(Buffers* b, const ColorCase* cf, const DepthCase* df) {
 
 static int counting_runs = 0;
 
+static int filled(const unsigned char* pixel, int bytes) {
+  int i;
+  for (i = 0; i < bytes; ++i)
+    if (pixel[i] != 0xA5) return 0;
+  return 1;
+}
+static int hits(const uint8_t* status) {
+  int i, count = 0;
+  for (i = 0; i < N; ++i) count += status[i] == REPROJECT_PIXEL_HIT;
+  return count;
+}
+
 /* One bad field at a time on an rgba8 + D24S8 frame: a status code and a message naming it
  * (`words`, not read for REPROJECT_OK: the message is the last failure's). */
 static void expect_refused(const reproject_source_buffers* source, const reproject_target_buffers* target,
@@ -300,8 +312,8 @@ static void expect_refused(const reproject_source_buffers* source, const reproje
   status = reproject_warp_buffers(source, &decoder, &model, &options, target, NULL);
   CHECK(status == expected, "%s: status %s, expected %s (%s)", what, reproject_status_name(status),
         reproject_status_name(expected), reproject_last_error_message());
-  CHECK(status == REPROJECT_OK || strstr(reproject_last_error_message(), words) != NULL, "%s: message \"%s\" lacks \"%s\"", what,
-        reproject_last_error_message(), words);
+  CHECK(status == REPROJECT_OK || strstr(reproject_last_error_message(), words) != NULL,
+        "%s: message \"%s\" lacks \"%s\"", what, reproject_last_error_message(), words);
   printf("%-40s %s%s%s\n", what, reproject_status_name(status), status == REPROJECT_OK ? "" : ": ",
          status == REPROJECT_OK ? "" : reproject_last_error_message());
 }
@@ -482,9 +494,10 @@ static int formats_match_cxx(const ColorCase* cf, const DepthCase* df, int arch,
         CHECK(reference_warp_buffers(&ref_source, pair ? &ref_left : NULL, &ref_right, W, H, linear, kNear, kFar,
                                      method, arch, kThreads[t]) == 0,
               "%s x %s: reference failed", cf->name, df->name);
-        /* written at all: a hit in the wall's middle, its colour no longer the fill pattern */
-        CHECK(fmt_c.status[30 * W + 40] == REPROJECT_PIXEL_HIT &&
-                  bytes_of(fmt_c.color[0])[30 * color_stride(cf) + 40 * cf->bytes] != 0xA5,
+        /* written at all: mostly hits, and a pixel's colour no longer the fill pattern (every
+         * pixel's colour is written with the default hole fill and edge mode) */
+        CHECK(hits(fmt_c.status) > N / 2 &&
+                  !filled(bytes_of(fmt_c.color[0]) + 30 * color_stride(cf) + 40 * cf->bytes, cf->bytes),
               "%s x %s %s: nothing written", cf->name, df->name, reproject_method_name(method));
         identical = memcmp(&fmt_c, &fmt_cpp, sizeof fmt_c) == 0 &&
                     (!pair || memcmp(&fmt_c_left, &fmt_cpp_left, sizeof fmt_c_left) == 0);
