@@ -175,7 +175,7 @@ typedef struct reproject_pixels {
   int32_t width;
   int32_t height;
   int64_t stride;   /* bytes */
-  int32_t format;   /* REPROJECT_COLOR_RGBA8, _RGBA8_SRGB or _RGBA16F */
+  int32_t format;   /* REPROJECT_COLOR_RGBA8, _RGBA8_SRGB, _RGBA16F; FLOAT32 (0): not used */
   int32_t reserved; /* 0 */
 } reproject_pixels;
 
