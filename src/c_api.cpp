@@ -23,6 +23,20 @@ static_assert(REPROJECT_EDGE_MIRROR == static_cast<int>(EdgeMode::mirror), "edge
 static_assert(REPROJECT_DEPTH_DISPARITY == static_cast<int>(DepthEncoding::disparity), "encodings");
 static_assert(REPROJECT_CENTRE_TO_RIGHT == static_cast<int>(EyeDirection::centre_to_right), "directions");
 static_assert(REPROJECT_LAYOUT_INTERLEAVED_RGBA == static_cast<int>(ColorLayout::interleaved_rgba), "layouts");
+// Formats: every value, as the mapping casts them (a swapped pair would otherwise go unnoticed).
+static_assert(REPROJECT_COLOR_FLOAT32 == static_cast<int>(ColorFormat::float32) &&
+                  REPROJECT_COLOR_RGBA8 == static_cast<int>(ColorFormat::rgba8) &&
+                  REPROJECT_COLOR_RGBA8_SRGB == static_cast<int>(ColorFormat::rgba8_srgb) &&
+                  REPROJECT_COLOR_RGBA16F == static_cast<int>(ColorFormat::rgba16f) &&
+                  REPROJECT_COLOR_RGBA16F + 1 == kColorFormatCount,
+              "colour formats");
+static_assert(REPROJECT_DEPTH_FORMAT_FLOAT32 == static_cast<int>(DepthFormat::float32) &&
+                  REPROJECT_DEPTH_FORMAT_UNORM16 == static_cast<int>(DepthFormat::unorm16) &&
+                  REPROJECT_DEPTH_FORMAT_UNORM24_S8 == static_cast<int>(DepthFormat::unorm24_s8) &&
+                  REPROJECT_DEPTH_FORMAT_S8_UNORM24 == static_cast<int>(DepthFormat::s8_unorm24) &&
+                  REPROJECT_DEPTH_FORMAT_RGBA8_PACKED_LINEAR == static_cast<int>(DepthFormat::rgba8_packed_linear) &&
+                  REPROJECT_DEPTH_FORMAT_RGBA8_PACKED_LINEAR + 1 == kDepthFormatCount,
+              "depth formats");
 
 thread_local char last_message[192] = "ok";
 
@@ -41,29 +55,85 @@ MutableFloatPlane view(const reproject_mut_plane& p) noexcept {
 }
 BytePlane view(const reproject_byte_plane& p) noexcept { return BytePlane{p.data, p.width, p.height, p.stride}; }
 
-// The layout and channel count are passed through unchecked: the C++ validation reports them.
-template <class CColor, class View>
-View color_view(const CColor& c) noexcept {
+// The C structs to the C++ views: one function per struct, shared by the float-only calls (whose
+// structs are lifted into the _buffers ones) and the _buffers calls. Values that C++ keeps in 8-bit
+// enums (layout, formats) are range-checked before the cast, as a cast of an unknown value could
+// wrap onto a known one; sizes, strides, channel counts and the rest are the C++ validation's.
+template <class CColor, class CPixels, class View>
+Status color_of(const CColor& c, const CPixels& p, const char* name, View* out) noexcept {
+  if (c.layout != REPROJECT_LAYOUT_PLANAR && c.layout != REPROJECT_LAYOUT_INTERLEAVED_RGBA)
+    return Status(StatusCode::invalid_option, "%s color.layout %d is not a known layout (REPROJECT_LAYOUT_*)", name,
+                  static_cast<int>(c.layout));
+  if (p.format < 0 || p.format >= kColorFormatCount)
+    return Status(StatusCode::invalid_option, "%s pixels.format %d is not a known colour format (REPROJECT_COLOR_*)",
+                  name, static_cast<int>(p.format));
   View v;
-  v.layout = static_cast<ColorLayout>(c.layout);
-  v.channels = c.channels;
-  for (int i = 0; i < 4; ++i) v.plane[i] = view(c.plane[i]);
-  return v;
+  if (p.format == REPROJECT_COLOR_FLOAT32) {
+    if (p.data != nullptr)
+      return Status(StatusCode::invalid_option, "%s pixels.data is set but pixels.format is float32: float colour "
+                    "goes in color, packed pixels need their REPROJECT_COLOR_* format", name);
+    v.layout = static_cast<ColorLayout>(c.layout);
+    v.channels = c.channels;
+    for (int i = 0; i < 4; ++i) v.plane[i] = view(c.plane[i]);
+  } else {
+    bool planes = c.channels != 0;
+    for (int i = 0; i < 4; ++i) planes = planes || c.plane[i].data != nullptr;
+    if (planes)
+      return Status(StatusCode::invalid_option, "%s: both color (float planes) and pixels (%s) are set; set one", name,
+                    to_string(static_cast<ColorFormat>(p.format)));
+    v = View::packed(static_cast<ColorFormat>(p.format), p.data, p.width, p.height, p.stride);
+  }
+  *out = v;
+  return Status();
 }
 
-SourceView view(const reproject_source& s) noexcept {
-  SourceView v;
-  v.color = color_view<reproject_color, ColorView>(s.color);
-  v.depth = view(s.depth);
-  return v;
+template <class CBuffer, class Buffer>
+Status depth_buffer_of(const CBuffer& d, const char* name, Buffer* out) noexcept {
+  if (d.format < 0 || d.format >= kDepthFormatCount)
+    return Status(StatusCode::invalid_option,
+                  "%s depth_buffer.format %d is not a known depth format (REPROJECT_DEPTH_FORMAT_*)", name,
+                  static_cast<int>(d.format));
+  Buffer b = Buffer::of(static_cast<DepthFormat>(d.format), d.data, d.width, d.height, d.stride);
+  b.linear_near = d.linear_near;
+  b.linear_far = d.linear_far;
+  *out = b;
+  return Status();
 }
-TargetView view(const reproject_target& t) noexcept {
+
+// Both depths are passed on as given: the C++ validation refuses a view with both set.
+Status source_of(const reproject_source_buffers& s, const char* name, SourceView* out) noexcept {
+  SourceView v;
+  Status status = color_of(s.color, s.pixels, name, &v.color);
+  if (status.ok()) status = depth_buffer_of(s.depth_buffer, name, &v.depth_buffer);
+  v.depth = view(s.depth);
+  *out = v;
+  return status;
+}
+Status target_of(const reproject_target_buffers& t, const char* name, TargetView* out) noexcept {
   TargetView v;
-  v.color = color_view<reproject_mut_color, MutableColorView>(t.color);
+  Status status = color_of(t.color, t.pixels, name, &v.color);
+  if (status.ok()) status = depth_buffer_of(t.depth_buffer, name, &v.depth_buffer);
   v.depth = view(t.depth);
   v.status = view(t.status);
   v.source_x = view(t.source_x);
-  return v;
+  *out = v;
+  return status;
+}
+
+// The float-only structs are the _buffers ones with no pixels and no depth buffer.
+reproject_source_buffers buffers_of(const reproject_source& s) noexcept {
+  reproject_source_buffers b{};
+  b.color = s.color;
+  b.depth = s.depth;
+  return b;
+}
+reproject_target_buffers buffers_of(const reproject_target& t) noexcept {
+  reproject_target_buffers b{};
+  b.color = t.color;
+  b.depth = t.depth;
+  b.status = t.status;
+  b.source_x = t.source_x;
+  return b;
 }
 
 DepthDecoder decoder_of(const reproject_decoder& d) noexcept {
@@ -156,6 +226,29 @@ void run_c_jobs(void* context, int count, void (*task)(void*, int), void* task_c
   call.c->run(call.c->context, count, c_task, &call);
 }
 
+// Every reprojection entry point ends here: the options, the views, the decoder, the model and the
+// job hook are handled once. `left` null: one eye (reproject), else both (reproject_pair).
+reproject_status warp(const reproject_source_buffers& source, const reproject_decoder& decoder,
+                      const reproject_parallax& model, const reproject_options* options,
+                      const reproject_target_buffers* left, const reproject_target_buffers& right,
+                      const reproject_parallel_for* jobs) noexcept {
+  Options o;
+  SourceView s;
+  TargetView l, r;
+  Status status = options_of(options, &o);
+  if (status.ok()) status = source_of(source, left ? "centre" : "source", &s);
+  if (status.ok() && left) status = target_of(*left, "left", &l);
+  if (status.ok()) status = target_of(right, left ? "right" : "target", &r);
+  if (!status.ok()) return report(status);
+  const DepthDecoder d = decoder_of(decoder);
+  const ParallaxModel m{model.a, model.b};
+  if (jobs != nullptr && jobs->run != nullptr) {
+    const ParallelFor hook{const_cast<reproject_parallel_for*>(jobs), run_c_jobs};
+    return report(left ? reproject_pair(s, d, m, o, l, r, hook) : reproject::reproject(s, d, m, o, r, hook));
+  }
+  return report(left ? reproject_pair(s, d, m, o, l, r) : reproject::reproject(s, d, m, o, r));
+}
+
 }  // namespace
 
 extern "C" {
@@ -176,6 +269,12 @@ const char* reproject_arch_name(int32_t arch) {
 }
 const char* reproject_encoding_name(int32_t encoding) {
   return encoding >= 0 && encoding <= REPROJECT_DEPTH_DISPARITY ? to_string(static_cast<DepthEncoding>(encoding)) : "?";
+}
+const char* reproject_color_format_name(int32_t format) {
+  return format >= 0 && format < kColorFormatCount ? to_string(static_cast<ColorFormat>(format)) : "?";
+}
+const char* reproject_depth_format_name(int32_t format) {
+  return format >= 0 && format < kDepthFormatCount ? to_string(static_cast<DepthFormat>(format)) : "?";
 }
 
 int32_t reproject_arch_supported(int32_t arch) {
@@ -248,15 +347,7 @@ reproject_status reproject_warp(const reproject_source* source, const reproject_
   if (source == nullptr || decoder == nullptr || model == nullptr || target == nullptr) {
     return report(Status(StatusCode::null_pointer, "reproject_warp: source, decoder, model and target are required"));
   }
-  Options o;
-  const Status parsed = options_of(options, &o);
-  if (!parsed.ok()) return report(parsed);
-  const ParallaxModel m{model->a, model->b};
-  if (jobs != nullptr && jobs->run != nullptr) {
-    const ParallelFor hook{const_cast<reproject_parallel_for*>(jobs), run_c_jobs};
-    return report(reproject::reproject(view(*source), decoder_of(*decoder), m, o, view(*target), hook));
-  }
-  return report(reproject::reproject(view(*source), decoder_of(*decoder), m, o, view(*target)));
+  return warp(buffers_of(*source), *decoder, *model, options, nullptr, buffers_of(*target), jobs);
 }
 
 reproject_status reproject_warp_pair(const reproject_source* centre, const reproject_decoder* decoder,
@@ -267,15 +358,29 @@ reproject_status reproject_warp_pair(const reproject_source* centre, const repro
     return report(Status(StatusCode::null_pointer,
                          "reproject_warp_pair: centre, decoder, model, left and right are required"));
   }
-  Options o;
-  const Status parsed = options_of(options, &o);
-  if (!parsed.ok()) return report(parsed);
-  const ParallaxModel m{centre_to_right->a, centre_to_right->b};
-  if (jobs != nullptr && jobs->run != nullptr) {
-    const ParallelFor hook{const_cast<reproject_parallel_for*>(jobs), run_c_jobs};
-    return report(reproject::reproject_pair(view(*centre), decoder_of(*decoder), m, o, view(*left), view(*right), hook));
+  const reproject_target_buffers left_buffers = buffers_of(*left);
+  return warp(buffers_of(*centre), *decoder, *centre_to_right, options, &left_buffers, buffers_of(*right), jobs);
+}
+
+reproject_status reproject_warp_buffers(const reproject_source_buffers* source, const reproject_decoder* decoder,
+                                        const reproject_parallax* model, const reproject_options* options,
+                                        const reproject_target_buffers* target, const reproject_parallel_for* jobs) {
+  if (source == nullptr || decoder == nullptr || model == nullptr || target == nullptr) {
+    return report(
+        Status(StatusCode::null_pointer, "reproject_warp_buffers: source, decoder, model and target are required"));
   }
-  return report(reproject::reproject_pair(view(*centre), decoder_of(*decoder), m, o, view(*left), view(*right)));
+  return warp(*source, *decoder, *model, options, nullptr, *target, jobs);
+}
+
+reproject_status reproject_warp_pair_buffers(const reproject_source_buffers* centre, const reproject_decoder* decoder,
+                                             const reproject_parallax* centre_to_right,
+                                             const reproject_options* options, const reproject_target_buffers* left,
+                                             const reproject_target_buffers* right, const reproject_parallel_for* jobs) {
+  if (centre == nullptr || decoder == nullptr || centre_to_right == nullptr || left == nullptr || right == nullptr) {
+    return report(Status(StatusCode::null_pointer,
+                         "reproject_warp_pair_buffers: centre, decoder, model, left and right are required"));
+  }
+  return warp(*centre, *decoder, *centre_to_right, options, left, *right, jobs);
 }
 
 }  // extern "C"

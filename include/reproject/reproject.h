@@ -8,7 +8,12 @@
  *  - Every call that can fail returns a reproject_status (REPROJECT_OK = 0, else the code of the
  *    C++ StatusCode). The message of the calling thread's last failure is
  *    reproject_last_error_message(). Nothing is thrown or longjmp'd across this interface.
- *  - Strides count elements (floats or bytes), not bytes, as in the C++ views.
+ *  - Strides count elements (floats or bytes), not bytes, as in the C++ views; the engine-format
+ *    views (reproject_pixels, reproject_depth_buffer) count bytes, as their C++ twins do.
+ *  - Two pairs of entry points: reproject_warp / reproject_warp_pair take float colour and depth
+ *    (reproject_source, reproject_target); reproject_warp_buffers / reproject_warp_pair_buffers
+ *    take colour and depth in any format, float included (reproject_source_buffers,
+ *    reproject_target_buffers). Both compute the same thing on float input.
  *
  * ABI
  *  - Stable: the names and values of the REPROJECT_* constants, the function signatures, and the
@@ -94,6 +99,27 @@ typedef int32_t reproject_status;
 #define REPROJECT_LAYOUT_PLANAR 0
 #define REPROJECT_LAYOUT_INTERLEAVED_RGBA 1
 
+/* Colour formats (C++ ColorFormat). FLOAT32 is the float planes of reproject_color; the others
+ * are packed interleaved R, G, B, A pixels (reproject_pixels): RGBA8 (UNORM bytes), RGBA8_SRGB
+ * (the same bytes, R, G, B sRGB-encoded: blended in linear light), RGBA16F (IEEE halves, 8 bytes a
+ * pixel). docs/BEHAVIOUR.md "Pixel formats" says how each is read, blended and stored. */
+#define REPROJECT_COLOR_FLOAT32 0
+#define REPROJECT_COLOR_RGBA8 1
+#define REPROJECT_COLOR_RGBA8_SRGB 2
+#define REPROJECT_COLOR_RGBA16F 3
+
+/* Depth formats (C++ DepthFormat): how a depth buffer stores the value the decoder decodes.
+ * FLOAT32: a float; UNORM16 (D16): u / 65535; UNORM24_S8: a 32-bit word, depth in bits 0-23,
+ * stencil in bits 24-31 (D3D / Vulkan D24_UNORM_S8_UINT); S8_UNORM24: stencil in bits 0-7, depth in
+ * bits 8-31 (OpenGL GL_UNSIGNED_INT_24_8); RGBA8_PACKED_LINEAR: linear depth packed into R, G, B
+ * over the buffer's [linear_near, linear_far] (use it with reproject_decoder_linear). Output depth
+ * keeps the stencil byte (or A) of the source pixel it came from. */
+#define REPROJECT_DEPTH_FORMAT_FLOAT32 0
+#define REPROJECT_DEPTH_FORMAT_UNORM16 1
+#define REPROJECT_DEPTH_FORMAT_UNORM24_S8 2
+#define REPROJECT_DEPTH_FORMAT_S8_UNORM24 3
+#define REPROJECT_DEPTH_FORMAT_RGBA8_PACKED_LINEAR 4
+
 /* A plane: row y starts at data + y * stride (elements). */
 typedef struct reproject_plane {
   const float* data;
@@ -141,6 +167,79 @@ typedef struct reproject_target {
   reproject_byte_plane status;
   reproject_mut_plane source_x;
 } reproject_target;
+
+/* Packed RGBA pixels in an engine format (C++ ColorView::packed): row y starts at
+ * (const uint8_t*)data + y * stride, stride in bytes (>= width * 4, or * 8 for RGBA16F). */
+typedef struct reproject_pixels {
+  const void* data;
+  int32_t width;
+  int32_t height;
+  int64_t stride;   /* bytes */
+  int32_t format;   /* REPROJECT_COLOR_RGBA8, _RGBA8_SRGB, _RGBA16F; FLOAT32 (0): not used */
+  int32_t reserved; /* 0 */
+} reproject_pixels;
+
+typedef struct reproject_mut_pixels {
+  void* data;
+  int32_t width;
+  int32_t height;
+  int64_t stride;   /* bytes */
+  int32_t format;   /* the source's */
+  int32_t reserved; /* 0 */
+} reproject_mut_pixels;
+
+/* A depth buffer in any REPROJECT_DEPTH_FORMAT_* (C++ DepthBuffer): row y starts at
+ * (const uint8_t*)data + y * stride, stride in bytes (>= width * bytes per pixel; FLOAT32 rows on
+ * 4-byte boundaries). linear_near and linear_far are read for RGBA8_PACKED_LINEAR only: the linear
+ * depth the packed value spans (finite, different); a zeroed struct leaves them 0, which is refused. */
+typedef struct reproject_depth_buffer {
+  const void* data;
+  int32_t width;
+  int32_t height;
+  int64_t stride; /* bytes */
+  int32_t format; /* REPROJECT_DEPTH_FORMAT_* */
+  float linear_near;
+  float linear_far;
+  int32_t reserved; /* 0 */
+} reproject_depth_buffer;
+
+/* An output depth buffer: in the source's format; its linear range is not read (packed output is
+ * stored with the source's range). */
+typedef struct reproject_mut_depth_buffer {
+  void* data;
+  int32_t width;
+  int32_t height;
+  int64_t stride; /* bytes */
+  int32_t format; /* the source's */
+  float linear_near;
+  float linear_far;
+  int32_t reserved; /* 0 */
+} reproject_mut_depth_buffer;
+
+/* A source in any formats (C++ SourceView), for reproject_warp_buffers; zero it, then set:
+ *  - colour: float planes in `color` (pixels.format REPROJECT_COLOR_FLOAT32, i.e. 0, and pixels
+ *    otherwise zeroed), or packed pixels in `pixels` (a packed pixels.format, `color` zeroed);
+ *  - depth: a float plane in `depth`, or a buffer in any format in `depth_buffer`: exactly one.
+ * Setting both halves of either pair is refused (REPROJECT_INVALID_OPTION), as are unknown formats. */
+typedef struct reproject_source_buffers {
+  reproject_color color;
+  reproject_pixels pixels;
+  reproject_plane depth;
+  reproject_depth_buffer depth_buffer;
+} reproject_source_buffers;
+
+/* Outputs in the source's formats (C++ TargetView): colour in `color` or `pixels` as for the
+ * source; depth, when wanted, in `depth` for a source `depth` plane or in `depth_buffer` (the
+ * source's depth format) for a source `depth_buffer`; status and source_x as in reproject_target.
+ * Outputs whose data is NULL are not written (colour is required). */
+typedef struct reproject_target_buffers {
+  reproject_mut_color color;
+  reproject_mut_pixels pixels;
+  reproject_mut_plane depth;
+  reproject_mut_depth_buffer depth_buffer;
+  reproject_byte_plane status;
+  reproject_mut_plane source_x;
+} reproject_target_buffers;
 
 /* A depth decoder, by value: its encoding and planes. Made by the reproject_decoder_* factories
  * (an invalid one is refused by the calls that use it, with the decoder's message). */
@@ -192,6 +291,8 @@ const char* reproject_status_name(reproject_status status);
 const char* reproject_method_name(int32_t method);
 const char* reproject_arch_name(int32_t arch);
 const char* reproject_encoding_name(int32_t encoding);
+const char* reproject_color_format_name(int32_t format);       /* "float32", "rgba8", "rgba8_srgb", "rgba16f" */
+const char* reproject_depth_format_name(int32_t format);       /* "float32", "unorm16", "unorm24_s8", ... */
 
 int32_t reproject_arch_supported(int32_t arch); /* 1 or 0 */
 int32_t reproject_selected_arch(void);
@@ -225,6 +326,19 @@ reproject_status reproject_warp_pair(const reproject_source* centre, const repro
                                      const reproject_parallax* centre_to_right, const reproject_options* options,
                                      const reproject_target* left, const reproject_target* right,
                                      const reproject_parallel_for* jobs);
+
+/* The same two calls on buffers in any format (reproject_source_buffers): the targets are written
+ * in the source's colour and depth formats. Same options, decoder, model and jobs as above; unknown
+ * format values are refused with REPROJECT_INVALID_OPTION, and everything the C++ validation
+ * refuses (a stride too small, target formats unlike the source's, ...) comes back with its code
+ * and message. */
+reproject_status reproject_warp_buffers(const reproject_source_buffers* source, const reproject_decoder* decoder,
+                                        const reproject_parallax* model, const reproject_options* options,
+                                        const reproject_target_buffers* target, const reproject_parallel_for* jobs);
+reproject_status reproject_warp_pair_buffers(const reproject_source_buffers* centre, const reproject_decoder* decoder,
+                                             const reproject_parallax* centre_to_right,
+                                             const reproject_options* options, const reproject_target_buffers* left,
+                                             const reproject_target_buffers* right, const reproject_parallel_for* jobs);
 
 #ifdef __cplusplus
 }
