@@ -415,6 +415,7 @@ def test_teddy_as_uint8_rgba_scores_as_the_float_path(teddy_pair, method):
     native = reproject.warp(rgba, disparity, **kw)
     srgb = reproject.warp(rgba, disparity, color_space="srgb", **kw)
     assert native.color.dtype == np.uint8 and np.array_equal(native.status, floats.status)
+    assert np.abs(native.color.astype(np.int64) - np.rint(floats.color)).max() <= 1  # the float path's bytes
     psnr_float, _, _ = teddy.score(floats.color, right, mask)
     psnr_native, _, _ = teddy.score(native.color, right, mask)
     psnr_srgb, _, _ = teddy.score(srgb.color, right, mask)
