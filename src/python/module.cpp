@@ -272,7 +272,7 @@ bool depth_has_channels(DepthFormat format) { return format == DepthFormat::rgba
 
 Source source_from(const py::array& color, const py::array& depth, const std::string& color_space,
                    const std::optional<std::string>& depth_format,
-                   const std::optional<std::pair<double, double>>& linear_range) {
+                   const std::optional<std::pair<float, float>>& linear_range) {
   Source s;
   s.color_format = color_format_of(color, color_space);
   s.depth_format = depth_format_of(depth, depth_format);
@@ -295,11 +295,9 @@ Source source_from(const py::array& color, const py::array& depth, const std::st
   } else {
     const PlaneView<std::uint8_t> rows = pixel_rows(depth, "depth");
     s.view.depth_buffer = DepthBuffer::of(s.depth_format, rows.data, rows.width, rows.height, rows.stride);
-    if (linear_range) {
-      // The library checks the range (finite, not empty); a double too large for a float turns
-      // infinite here and is refused there.
-      s.view.depth_buffer.linear_near = static_cast<float>(linear_range->first);
-      s.view.depth_buffer.linear_far = static_cast<float>(linear_range->second);
+    if (linear_range) {  // checked by the library (finite, not empty)
+      s.view.depth_buffer.linear_near = linear_range->first;
+      s.view.depth_buffer.linear_far = linear_range->second;
     }
     s.width = rows.width;
     s.height = rows.height;
@@ -483,13 +481,13 @@ int target_width(const Source& s, int guard) {
 
 #define REPROJECT_WARP_PARAMETERS                                                                                 \
   const std::string &color_space, const std::optional<std::string>&depth_format,                                  \
-      const std::optional<std::pair<double, double>>&linear_range, const std::optional<std::string>&encoding,       \
-      std::optional<double> near_plane, std::optional<double> far_plane,    \
+      const std::optional<std::pair<float, float>>&linear_range, const std::optional<std::string>&encoding,       \
+      std::optional<double> near_plane, std::optional<double> far_plane,                                          \
       const std::optional<DepthDecoder>&decoder, std::optional<double> separation,                                \
       std::optional<double> convergence, const std::optional<std::string>&direction,                              \
-      const std::optional<ParallaxModel>&model, const std::string &method,                                         \
+      const std::optional<ParallaxModel>&model, const std::string &method,                                        \
       std::optional<float> max_negative_parallax, float hole_threshold, const std::string &hole_fill,             \
-      const std::string &edge, int guard, std::optional<float> probe_parallax, int march_steps,                    \
+      const std::string &edge, int guard, std::optional<float> probe_parallax, int march_steps,                   \
       int secant_max_steps, const std::optional<std::string>&arch, int threads
 
 Result warp(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS, const py::object& out) {
@@ -519,7 +517,7 @@ PairResult warp_pair(const py::array& color, const py::array& depth, REPROJECT_W
   return PairResult{left.result, right.result};
 }
 
-const char* kWarpDoc = R"doc(warp(color, depth, *, color_space, depth_format, linear_range, encoding, near, far, separation, convergence, direction, method, ...) -> Result
+const char* kWarpDoc = R"doc(warp(color, depth, *, encoding, near, far, separation, convergence, direction, method, ...) -> Result
 
 Synthesises another eye from one view (colour + depth): reproject() of reproject.hpp.
 
