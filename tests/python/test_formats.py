@@ -255,10 +255,10 @@ def embed(a, rows_before=3, rows_after=2, columns_before=5, columns_after=9, fil
 
 
 def odd_strides(a):
-    """`a` in a byte buffer with an odd row stride and an odd start: rows of whole pixels no
-    dtype's alignment holds (numpy calls such arrays unaligned)."""
+    """`a` (C-contiguous) in a byte buffer with an odd row stride and an odd start: rows of whole
+    pixels no dtype's alignment holds (numpy calls such arrays unaligned)."""
     row = a.shape[1] * a.strides[1] + 3
-    buffer = np.zeros(row * a.shape[0] + 8, np.uint8)
+    buffer = np.zeros(1 + row * (a.shape[0] - 1) + a.shape[1] * a.strides[1], np.uint8)  # ends with the last row
     view = np.ndarray(a.shape, a.dtype, buffer, offset=1, strides=(row,) + a.strides[1:])
     view[...] = a
     return view
@@ -273,6 +273,10 @@ def test_crops_are_read_and_written_in_place(colour_fmt, depth_fmt, method):
     crop_depth, _ = embed(depth, 2, 4, 11, 1)
     assert not crop_colour.flags.c_contiguous and not crop_depth.flags.c_contiguous
     assert result_bytes(reproject.warp(crop_colour, crop_depth, method=method, **kw)) == result_bytes(reference)
+    # Crops whose last row ends where their parent's memory ends: a read past a row would leave it
+    # (the sanitizer build runs this file too).
+    at_end = reproject.warp(embed(colour, 3, 0, 5, 0)[0], embed(depth, 1, 0, 7, 0)[0], method=method, **kw)
+    assert result_bytes(at_end) == result_bytes(reference)
     if colour.dtype != np.float32 and depth.dtype != np.float32:  # engine rows need no alignment
         unaligned = reproject.warp(odd_strides(colour), odd_strides(depth), method=method, **kw)
         assert result_bytes(unaligned) == result_bytes(reference)
