@@ -15,10 +15,13 @@ std::string describe(const py::array& a) {
   return s.str();
 }
 
+bool has_dtype(const py::array& a, const py::dtype& dtype) {
+  // dtype equality includes the byte order: a big-endian float32 is not float32.
+  return dtype.attr("__eq__")(a.dtype()).cast<bool>();
+}
+
 void require_dtype(const py::array& a, const char* name, bool bytes) {
-  // dtype equality includes the byte order: a big-endian float32 is refused too.
-  const py::dtype wanted = bytes ? py::dtype::of<std::uint8_t>() : py::dtype::of<float>();
-  if (!wanted.attr("__eq__")(a.dtype()).cast<bool>()) {
+  if (!has_dtype(a, bytes ? py::dtype::of<std::uint8_t>() : py::dtype::of<float>())) {
     throw py::type_error(std::string(name) + ": expected a " + (bytes ? "uint8" : "float32") + " array, got " +
                          describe(a) + (bytes ? "" : " (convert with .astype(numpy.float32))"));
   }
@@ -35,28 +38,43 @@ namespace {
                         "); pass numpy.ascontiguousarray(" + name + ")");
 }
 
+// The rows of axes (row_axis, column_axis) of `a`, `pixel_bytes` a column, as bytes. The one rule
+// for every view: columns must be consecutive; the row stride is passed as it is (the library
+// refuses one shorter than a row, or negative).
+PlaneView<std::uint8_t> rows_of(const py::array& a, int row_axis, int column_axis, std::ptrdiff_t pixel_bytes,
+                                std::ptrdiff_t offset_bytes, const char* name, const char* unit) {
+  const py::ssize_t height = a.shape(row_axis), width = a.shape(column_axis);
+  // One column needs no column stride; one row needs no row stride (numpy may give any value).
+  if (width > 1 && a.strides(column_axis) != pixel_bytes) {
+    not_a_view(a, name, (std::string("its columns are not consecutive ") + unit).c_str());
+  }
+  if (height > INT32_MAX || width > INT32_MAX) throw py::value_error(std::string(name) + ": too large");
+  const std::ptrdiff_t row_stride = height <= 1 ? width * pixel_bytes : a.strides(row_axis);
+  auto* data = static_cast<std::uint8_t*>(const_cast<void*>(a.data())) + offset_bytes;
+  return PlaneView<std::uint8_t>{data, static_cast<int>(width), static_cast<int>(height), row_stride};
+}
+
 }  // namespace
 
 template <class T>
 PlaneView<T> plane_view(const py::array& a, int row_axis, int column_axis, std::ptrdiff_t offset_bytes,
                         const char* name) {
   const std::ptrdiff_t element = static_cast<std::ptrdiff_t>(sizeof(T));
-  const py::ssize_t height = a.shape(row_axis), width = a.shape(column_axis);
-  // One column needs no column stride; one row needs no row stride (numpy may give any value).
-  if (width > 1 && a.strides(column_axis) != element) {
-    not_a_view(a, name, "its columns are not consecutive elements");
-  }
-  std::ptrdiff_t row_stride = a.strides(row_axis);
-  if (height <= 1) row_stride = width * element;
-  if (row_stride % element != 0 || offset_bytes % element != 0 ||
-      reinterpret_cast<std::uintptr_t>(a.data()) % alignof(float) != 0) {
+  const PlaneView<std::uint8_t> rows = rows_of(a, row_axis, column_axis, element, offset_bytes, name, "elements");
+  if (rows.stride % element != 0 || reinterpret_cast<std::uintptr_t>(rows.data) % alignof(T) != 0) {
     not_a_view(a, name, "its data or strides are not aligned to whole elements");
   }
-  if (height > INT32_MAX || width > INT32_MAX) throw py::value_error(std::string(name) + ": too large");
-  auto* base = static_cast<T*>(const_cast<void*>(a.data()));
-  return PlaneView<T>{reinterpret_cast<T*>(reinterpret_cast<std::conditional_t<std::is_const_v<T>, const char, char>*>(base) +
-                                           offset_bytes),
-                      static_cast<int>(width), static_cast<int>(height), row_stride / element};
+  return PlaneView<T>{reinterpret_cast<T*>(rows.data), rows.width, rows.height, rows.stride / element};
+}
+
+PlaneView<std::uint8_t> pixel_rows(const py::array& a, const char* name) {
+  const std::ptrdiff_t item = a.itemsize();
+  std::ptrdiff_t pixel = item;
+  if (a.ndim() == 3) {
+    if (a.shape(2) > 1 && a.strides(2) != item) not_a_view(a, name, "the channels of its pixels are not consecutive");
+    pixel = item * a.shape(2);
+  }
+  return rows_of(a, 0, 1, pixel, 0, name, "pixels");
 }
 
 template PlaneView<const float> plane_view(const py::array&, int, int, std::ptrdiff_t, const char*);
@@ -106,10 +124,9 @@ bool color_view(const py::array& color, ColorForm form, const char* name, View* 
     if (channels == 4 && color.strides(1) == 4 * element && color.strides(2) == element) {
       view.layout = ColorLayout::interleaved_rgba;
       view.channels = 4;
-      const std::ptrdiff_t row_stride = color.shape(0) > 1 ? color.strides(0) : 4 * element * color.shape(1);
-      if (row_stride % element != 0) not_a_view(color, name, "its row stride is not a whole number of floats");
-      view.plane[0] = PlaneView<T>{static_cast<T*>(const_cast<void*>(color.data())), static_cast<int>(color.shape(1)),
-                                   static_cast<int>(color.shape(0)), row_stride / element};
+      const PlaneView<std::uint8_t> rows = pixel_rows(color, name);
+      if (rows.stride % element != 0) not_a_view(color, name, "its row stride is not a whole number of floats");
+      view.plane[0] = PlaneView<T>{reinterpret_cast<T*>(rows.data), rows.width, rows.height, rows.stride / element};
       *out = view;
       return true;
     }

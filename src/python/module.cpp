@@ -177,21 +177,145 @@ Options options_from(const std::string& method, std::optional<float> max_negativ
 // ---------------------------------------------------------------------------------------------
 // Inputs and outputs as views
 
+// ---------------------------------------------------------------------------------------------
+// Engine-native formats (formats.hpp) as NumPy dtypes. Their buffers are read and written in
+// place: the library converts in registers, so the module never converts a pixel.
+
+py::dtype dtype_of(ColorFormat format) {
+  switch (format) {
+    case ColorFormat::float32: return py::dtype::of<float>();
+    case ColorFormat::rgba8:
+    case ColorFormat::rgba8_srgb: return py::dtype::of<std::uint8_t>();
+    case ColorFormat::rgba16f: return py::dtype("float16");
+  }
+  return py::dtype::of<float>();
+}
+
+py::dtype dtype_of(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::float32: return py::dtype::of<float>();
+    case DepthFormat::unorm16: return py::dtype::of<std::uint16_t>();
+    case DepthFormat::unorm24_s8:
+    case DepthFormat::s8_unorm24: return py::dtype::of<std::uint32_t>();
+    case DepthFormat::rgba8_packed_linear: return py::dtype::of<std::uint8_t>();
+  }
+  return py::dtype::of<float>();
+}
+
+std::string name_of(const py::dtype& dtype) { return py::str(dtype.attr("name")).cast<std::string>(); }
+
+// The colour's format: its dtype, and for bytes the colour space they hold.
+ColorFormat color_format_of(const py::array& color, const std::string& color_space) {
+  if (color_space != "linear" && color_space != "srgb") {
+    throw py::value_error("unknown color_space '" + color_space + "' (linear, srgb)");
+  }
+  const bool srgb = color_space == "srgb";
+  if (has_dtype(color, dtype_of(ColorFormat::rgba8))) return srgb ? ColorFormat::rgba8_srgb : ColorFormat::rgba8;
+  ColorFormat format = ColorFormat::float32;
+  if (has_dtype(color, dtype_of(ColorFormat::rgba16f))) {
+    format = ColorFormat::rgba16f;
+  } else if (!has_dtype(color, dtype_of(ColorFormat::float32))) {
+    throw py::type_error("color: expected a float32 array, got " + describe(color) +
+                         "; the accepted dtypes are float32, and uint8 or float16 as (H, W, 4) RGBA "
+                         "(convert with .astype(numpy.float32))");
+  }
+  // Float values are linear already; only bytes are sRGB-encoded.
+  if (srgb) throw py::value_error("color: color_space='srgb' is for uint8 colour, got " + describe(color));
+  return format;
+}
+
+// The depth's format: named by depth_format=, or decided by the dtype where only one fits.
+DepthFormat depth_format_of(const py::array& depth, const std::optional<std::string>& depth_format) {
+  if (depth_format) {
+    const DepthFormat format = parse_name<DepthFormat>(*depth_format, parse_depth_format, "depth_format");
+    if (!has_dtype(depth, dtype_of(format))) {
+      throw py::type_error("depth: depth_format='" + *depth_format + "' reads a " + name_of(dtype_of(format)) +
+                           " array, got " + describe(depth));
+    }
+    return format;
+  }
+  if (has_dtype(depth, dtype_of(DepthFormat::float32))) return DepthFormat::float32;
+  if (has_dtype(depth, dtype_of(DepthFormat::unorm16))) return DepthFormat::unorm16;
+  if (has_dtype(depth, dtype_of(DepthFormat::unorm24_s8))) {
+    // D24S8 words come in two layouts, and nothing in the data tells them apart.
+    throw py::value_error("depth: a uint32 array is D24S8 depth, whose layouts differ: pass "
+                          "depth_format='unorm24_s8' (depth in bits 0-23, stencil in bits 24-31: D3D's and Vulkan's "
+                          "D24_UNORM_S8_UINT) or depth_format='s8_unorm24' (stencil in bits 0-7, depth in bits 8-31: "
+                          "OpenGL's GL_UNSIGNED_INT_24_8)");
+  }
+  if (has_dtype(depth, dtype_of(DepthFormat::rgba8_packed_linear))) {
+    throw py::value_error("depth: a uint8 array is read as packed RGBA8 linear depth only when asked: pass "
+                          "depth_format='rgba8_packed_linear' and linear_range=(near, far)");
+  }
+  throw py::type_error("depth: expected a float32 array, got " + describe(depth) +
+                       "; the accepted dtypes are float32, uint16 (D16) and uint32 (D24S8) as (H, W), and uint8 as "
+                       "(H, W, 4) packed linear depth (convert with .astype(numpy.float32))");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inputs and outputs as views
+
 struct Source {
   SourceView view;
+  int width = 0;
+  int height = 0;
   ColorForm form = ColorForm::plane;
   int channels = 0;
   bool rgba = false;  // colour is interleaved RGBA
+  ColorFormat color_format = ColorFormat::float32;
+  DepthFormat depth_format = DepthFormat::float32;
   py::object keep;    // the planar copy of packed H x W x 2/3 colour, kept alive for the call
 };
 
-Source source_from(const py::array& color, const py::array& depth) {
-  require_dtype(color, "color");
-  require_dtype(depth, "depth");
-  if (depth.ndim() != 2) throw py::value_error("depth: expected an (H, W) array, got " + describe(depth));
+// Packed RGBA8 depth is (H, W, 4) bytes; every other depth format one element a pixel.
+bool depth_has_channels(DepthFormat format) { return format == DepthFormat::rgba8_packed_linear; }
+
+Source source_from(const py::array& color, const py::array& depth, const std::string& color_space,
+                   const std::optional<std::string>& depth_format,
+                   const std::optional<std::pair<float, float>>& linear_range) {
   Source s;
-  s.view.depth = plane_view<const float>(depth, 0, 1, 0, "depth");
-  s.form = color_form(color, s.view.depth.height, s.view.depth.width, "color");
+  s.color_format = color_format_of(color, color_space);
+  s.depth_format = depth_format_of(depth, depth_format);
+  if (depth_has_channels(s.depth_format)) {
+    if (depth.ndim() != 3 || depth.shape(2) != 4) {
+      throw py::value_error("depth: rgba8_packed_linear depth is an (H, W, 4) array, got " + describe(depth));
+    }
+    if (!linear_range) {
+      throw py::value_error("depth: rgba8_packed_linear needs linear_range=(near, far), the linear depths its "
+                            "values 0 and 1 stand for");
+    }
+  } else {
+    if (depth.ndim() != 2) throw py::value_error("depth: expected an (H, W) array, got " + describe(depth));
+    if (linear_range) throw py::value_error("linear_range= is for depth_format='rgba8_packed_linear' only");
+  }
+  if (s.depth_format == DepthFormat::float32) {
+    s.view.depth = plane_view<const float>(depth, 0, 1, 0, "depth");
+    s.width = s.view.depth.width;
+    s.height = s.view.depth.height;
+  } else {
+    const PlaneView<std::uint8_t> rows = pixel_rows(depth, "depth");
+    s.view.depth_buffer = DepthBuffer::of(s.depth_format, rows.data, rows.width, rows.height, rows.stride);
+    if (linear_range) {  // checked by the library (finite, not empty)
+      s.view.depth_buffer.linear_near = linear_range->first;
+      s.view.depth_buffer.linear_far = linear_range->second;
+    }
+    s.width = rows.width;
+    s.height = rows.height;
+  }
+  if (s.color_format != ColorFormat::float32) {
+    if (color.ndim() != 3 || color.shape(0) != s.height || color.shape(1) != s.width || color.shape(2) != 4) {
+      throw py::value_error(std::string("color: ") + name_of(color.dtype()) + " colour is RGBA: expected shape (" +
+                            std::to_string(s.height) + ", " + std::to_string(s.width) + ", 4), got " +
+                            describe(color) + " (Pillow: Image.convert('RGBA'))");
+    }
+    const PlaneView<std::uint8_t> rows = pixel_rows(color, "color");
+    s.view.color = ColorView::packed(s.color_format, rows.data, rows.width, rows.height, rows.stride);
+    s.form = ColorForm::hwc;
+    s.channels = 4;
+    s.rgba = true;
+    return s;
+  }
+  s.form = color_form(color, s.height, s.width, "color");
   s.channels = channel_count(color, s.form);
   if (!color_view(color, s.form, "color", &s.view.color)) {
     // Packed H x W x 2 or 3: the library reads planes or RGBA, so this one layout is copied.
@@ -209,9 +333,11 @@ py::array new_array(std::initializer_list<py::ssize_t> shape, bool bytes = false
   return py::array_t<float>(std::vector<py::ssize_t>(shape));
 }
 
-// A new colour output in the source's form. Packed H x W x C with C != 4 is returned as an
-// H x W x C view of C planes (numpy.moveaxis), which the library writes without a copy.
+// A new colour output in the source's form and dtype. Packed H x W x C float colour with C != 4
+// is returned as an H x W x C view of C planes (numpy.moveaxis), which the library writes without
+// a copy.
 py::array new_color(const Source& s, int height, int width) {
+  if (s.color_format != ColorFormat::float32) return py::array(dtype_of(s.color_format), {height, width, 4});
   switch (s.form) {
     case ColorForm::plane: return new_array({height, width});
     case ColorForm::chw: return new_array({s.channels, height, width});
@@ -220,6 +346,12 @@ py::array new_color(const Source& s, int height, int width) {
       return py::module_::import("numpy").attr("moveaxis")(new_array({s.channels, height, width}), 0, -1);
   }
   return py::array();
+}
+
+// A new depth output in the source's dtype: (H, W), or (H, W, 4) for packed RGBA8 depth.
+py::array new_depth(const Source& s, int height, int width) {
+  if (depth_has_channels(s.depth_format)) return py::array(dtype_of(s.depth_format), {height, width, 4});
+  return py::array(dtype_of(s.depth_format), {height, width});
 }
 
 void check_shape(const py::array& a, std::initializer_list<py::ssize_t> shape, const char* name) {
@@ -234,6 +366,44 @@ void check_shape(const py::array& a, std::initializer_list<py::ssize_t> shape, c
   }
 }
 
+// An output in an engine format: a writable array of the source's dtype, of shape (H, W), or
+// (H, W, 4) when its pixels have channels, as bytes (any row stride).
+PlaneView<std::uint8_t> output_pixels(const py::object& o, const py::dtype& dtype, bool channels, int height,
+                                      int width, const std::string& label) {
+  const py::array a = py::array::ensure(o);
+  if (!a || !has_dtype(a, dtype)) {
+    throw py::type_error(label + ": expected a " + name_of(dtype) + " array (the source's dtype), got " +
+                         (a ? describe(a) : py::str(py::type::of(o)).cast<std::string>()));
+  }
+  require_writeable(a, label.c_str());
+  if (channels) {
+    check_shape(a, {height, width, 4}, label.c_str());
+  } else {
+    check_shape(a, {height, width}, label.c_str());
+  }
+  return pixel_rows(a, label.c_str());
+}
+
+// A float colour output: float32, laid out like the source colour.
+MutableColorView float_color_output(const Source& s, const py::object& o, int height, int width,
+                                    const std::string& label) {
+  const py::array color = py::array::ensure(o);
+  if (!color) throw py::type_error(label + ": expected a float32 array");
+  require_dtype(color, label.c_str());
+  require_writeable(color, label.c_str());
+  const ColorForm form = color_form(color, height, width, label.c_str());
+  if (form != s.form || channel_count(color, form) != s.channels) {
+    throw py::value_error(label + ": " + describe(color) + " is not laid out like the source colour");
+  }
+  MutableColorView view;
+  if (!color_view(color, form, label.c_str(), &view)) {
+    throw py::value_error(label + ": " + describe(color) +
+                          " packs its pixels, which the library cannot write in place: pass the Result of an earlier "
+                          "call, or numpy.moveaxis of a (C, H, W) array");
+  }
+  return view;
+}
+
 // The outputs of one eye: the arrays of `out` (a Result, an array for colour alone, or None:
 // all four new) as a TargetView.
 struct Target {
@@ -245,7 +415,7 @@ Target target_from(const Source& s, int height, int width, const py::object& out
   Target t;
   if (out.is_none()) {
     t.result.color = new_color(s, height, width);
-    t.result.depth = new_array({height, width});
+    t.result.depth = new_depth(s, height, width);
     t.result.status = new_array({height, width}, true);
     t.result.source_x = new_array({height, width});
   } else if (py::isinstance<Result>(out)) {
@@ -253,21 +423,15 @@ Target target_from(const Source& s, int height, int width, const py::object& out
   } else if (py::isinstance<py::array>(out)) {
     t.result.color = out;
   } else {
-    throw py::type_error(std::string(name) + ": expected a Result, a float32 array or None");
+    throw py::type_error(std::string(name) + ": expected a Result, a colour array or None");
   }
   const std::string prefix = std::string(name) + ".";
-  const py::array color = py::array::ensure(t.result.color);
-  if (!color) throw py::type_error(prefix + "color: expected a float32 array");
-  require_dtype(color, (prefix + "color").c_str());
-  require_writeable(color, (prefix + "color").c_str());
-  const ColorForm form = color_form(color, height, width, (prefix + "color").c_str());
-  if (form != s.form || channel_count(color, form) != s.channels) {
-    throw py::value_error(prefix + "color: " + describe(color) + " is not laid out like the source colour");
-  }
-  if (!color_view(color, form, (prefix + "color").c_str(), &t.view.color)) {
-    throw py::value_error(prefix + "color: " + describe(color) +
-                          " packs its pixels, which the library cannot write in place: pass the Result of an earlier "
-                          "call, or numpy.moveaxis of a (C, H, W) array");
+  if (s.color_format == ColorFormat::float32) {
+    t.view.color = float_color_output(s, t.result.color, height, width, prefix + "color");
+  } else {
+    const PlaneView<std::uint8_t> rows =
+        output_pixels(t.result.color, dtype_of(s.color_format), true, height, width, prefix + "color");
+    t.view.color = MutableColorView::packed(s.color_format, rows.data, rows.width, rows.height, rows.stride);
   }
   auto float_plane = [&](const py::object& o, const char* field) {
     MutableFloatPlane plane;
@@ -280,7 +444,15 @@ Target target_from(const Source& s, int height, int width, const py::object& out
     check_shape(a, {height, width}, label.c_str());
     return plane_view<float>(a, 0, 1, 0, label.c_str());
   };
-  t.view.depth = float_plane(t.result.depth, "depth");
+  if (s.depth_format == DepthFormat::float32) {
+    t.view.depth = float_plane(t.result.depth, "depth");
+  } else if (!t.result.depth.is_none()) {
+    // Written in the source's format (packed depth with the source's range: the library reads no other).
+    const PlaneView<std::uint8_t> rows = output_pixels(t.result.depth, dtype_of(s.depth_format),
+                                                       depth_has_channels(s.depth_format), height, width,
+                                                       prefix + "depth");
+    t.view.depth_buffer = MutableDepthBuffer::of(s.depth_format, rows.data, rows.width, rows.height, rows.stride);
+  }
   t.view.source_x = float_plane(t.result.source_x, "source_x");
   if (!t.result.status.is_none()) {
     const std::string label = prefix + "status";
@@ -296,10 +468,10 @@ Target target_from(const Source& s, int height, int width, const py::object& out
 
 // The target's size: the source's less the guard band (the library refuses a guard too wide).
 int target_width(const Source& s, int guard) {
-  const int width = s.view.depth.width - 2 * guard;
+  const int width = s.width - 2 * guard;
   if (guard < 0 || width < 0) {
     throw py::value_error("guard " + std::to_string(guard) + " leaves no target columns of a source " +
-                          std::to_string(s.view.depth.width) + " wide");
+                          std::to_string(s.width) + " wide");
   }
   return width;
 }
@@ -308,36 +480,38 @@ int target_width(const Source& s, int guard) {
 // warp and warp_pair
 
 #define REPROJECT_WARP_PARAMETERS                                                                                 \
-  const std::optional<std::string>&encoding, std::optional<double> near_plane, std::optional<double> far_plane,    \
+  const std::string &color_space, const std::optional<std::string>&depth_format,                                  \
+      const std::optional<std::pair<float, float>>&linear_range, const std::optional<std::string>&encoding,       \
+      std::optional<double> near_plane, std::optional<double> far_plane,                                          \
       const std::optional<DepthDecoder>&decoder, std::optional<double> separation,                                \
       std::optional<double> convergence, const std::optional<std::string>&direction,                              \
-      const std::optional<ParallaxModel>&model, const std::string &method,                                         \
+      const std::optional<ParallaxModel>&model, const std::string &method,                                        \
       std::optional<float> max_negative_parallax, float hole_threshold, const std::string &hole_fill,             \
-      const std::string &edge, int guard, std::optional<float> probe_parallax, int march_steps,                    \
+      const std::string &edge, int guard, std::optional<float> probe_parallax, int march_steps,                   \
       int secant_max_steps, const std::optional<std::string>&arch, int threads
 
 Result warp(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS, const py::object& out) {
-  const Source s = source_from(color, depth);
+  const Source s = source_from(color, depth, color_space, depth_format, linear_range);
   const DepthDecoder d = decoder_from(decoder, encoding, near_plane, far_plane);
   const Options o = options_from(method, max_negative_parallax, hole_threshold, hole_fill, edge, guard, probe_parallax,
                                  march_steps, secant_max_steps, arch, threads);
   const int width = target_width(s, guard);
   const ParallaxModel m = model_from(model, d, separation, convergence, direction, width, false);
-  Target t = target_from(s, s.view.depth.height, width, out, "out");
+  Target t = target_from(s, s.height, width, out, "out");
   raise_if_failed(run_without_gil([&] { return reproject::reproject(s.view, d, m, o, t.view); }));
   return t.result;
 }
 
 PairResult warp_pair(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS,
                      const py::object& out_left, const py::object& out_right) {
-  const Source s = source_from(color, depth);
+  const Source s = source_from(color, depth, color_space, depth_format, linear_range);
   const DepthDecoder d = decoder_from(decoder, encoding, near_plane, far_plane);
   const Options o = options_from(method, max_negative_parallax, hole_threshold, hole_fill, edge, guard, probe_parallax,
                                  march_steps, secant_max_steps, arch, threads);
   const int width = target_width(s, guard);
   const ParallaxModel m = model_from(model, d, separation, convergence, direction, width, true);
-  Target left = target_from(s, s.view.depth.height, width, out_left, "out_left");
-  Target right = target_from(s, s.view.depth.height, width, out_right, "out_right");
+  Target left = target_from(s, s.height, width, out_left, "out_left");
+  Target right = target_from(s, s.height, width, out_right, "out_right");
   raise_if_failed(
       run_without_gil([&] { return reproject::reproject_pair(s.view, d, m, o, left.view, right.view); }));
   return PairResult{left.result, right.result};
@@ -351,24 +525,38 @@ color: float32, (H, W), (H, W, C) or (C, H, W) with C = 1..4. Planes and (H, W, 
   columns are consecutive are read in place (any row stride, crops included); packed (H, W, 2|3)
   colour (Pillow's layout) is copied once into planes, since the library has no such layout.
   Anything else (e.g. a[:, ::2]) raises ValueError.
-depth: float32 (H, W), read in place under the same rule.
+  Engine colour, (H, W, 4) RGBA read in place (any row stride; each pixel's 4 channels consecutive):
+  uint8 is rgba8, blended as the byte values (color_space='linear', the default), or rgba8_srgb
+  with color_space='srgb' (R, G, B decoded from sRGB, blended in linear light, encoded back);
+  float16 is rgba16f.
+depth: float32 (H, W), read in place under the same rule. Engine depth buffers, read in place with
+  any row stride: uint16 (H, W) is D16 (unorm16); uint32 (H, W) is D24S8 and needs
+  depth_format='unorm24_s8' (depth in bits 0-23: D3D, Vulkan) or 's8_unorm24' (depth in bits 8-31:
+  OpenGL); uint8 (H, W, 4) needs depth_format='rgba8_packed_linear' and linear_range=(near, far)
+  (linear depth packed in R, G, B; use it with the linear encoding, the default).
+  depth_format= may name any format; it must fit the dtype.
 Depth decoder: encoding= (linear, standard, gl_ndc, reversed, reversed_infinite, infinite,
-  disparity) with near=, far=; or decoder=Decoder.
+  disparity) with near=, far=; or decoder=Decoder. It decodes the value each format stores
+  (u / 65535, u / 16777215, or the packed linear depth).
 Parallax: separation= (default 0.03), convergence=, direction= (default centre-to-right; for a
   disparity map p = -d, left-to-right); or model=ParallaxModel.
 Options as keyword arguments with the C++ names and defaults: method='exact',
   max_negative_parallax=None, hole_threshold=1.0, hole_fill='background', edge='clamp', guard=0,
   probe_parallax=None, march_steps=16, secant_max_steps=256, arch=None, threads=0.
 out: None (new arrays), a Result of an earlier call (written in place: no allocation), or a colour
-  array (then only colour is written).
-Returns a Result: color (the source's form), depth (H, W), status (uint8: 0 hit, 1 hole,
-2 outside, 3 clipped), source_x. The GIL is released while the kernels run.
-Errors: TypeError for a wrong dtype; ValueError with the library's message for everything else.)doc";
+  array (then only colour is written). Its arrays must have the source's dtypes and shapes.
+Returns a Result: color (the source's form and dtype), depth (the source depth's dtype and
+format: stencil bits and the packed format's alpha are copied from the source pixel the output
+interpolates from), status (uint8: 0 hit, 1 hole, 2 outside, 3 clipped), source_x (float32). The
+GIL is released while the kernels run.
+Errors: TypeError for a wrong dtype (the message lists the accepted ones); ValueError with the
+library's message for everything else.)doc";
 
 // Adds the keyword arguments shared by warp and warp_pair, in the same order as the parameters.
 template <class Function, class... Extra>
 void def_warp(py::module_& m, const char* name, Function function, const char* doc, Extra... extra) {
-  m.def(name, function, py::arg("color"), py::arg("depth"), py::kw_only(), py::arg("encoding") = py::none(),
+  m.def(name, function, py::arg("color"), py::arg("depth"), py::kw_only(), py::arg("color_space") = "linear",
+        py::arg("depth_format") = py::none(), py::arg("linear_range") = py::none(), py::arg("encoding") = py::none(),
         py::arg("near") = py::none(), py::arg("far") = py::none(), py::arg("decoder") = py::none(),
         py::arg("separation") = py::none(), py::arg("convergence") = py::none(), py::arg("direction") = py::none(),
         py::arg("model") = py::none(), py::arg("method") = "exact", py::arg("max_negative_parallax") = py::none(),

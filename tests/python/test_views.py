@@ -90,7 +90,7 @@ def test_wrong_dtypes_are_type_errors():
     with pytest.raises(TypeError, match="depth: expected a float32 array, got float64"):
         reproject.warp(color, depth.astype(np.float64), **KW)
     with pytest.raises(TypeError, match="color: expected a float32 array"):
-        reproject.warp((color * 255).astype(np.uint8), depth, **KW)
+        reproject.warp(color.astype(np.float64), depth, **KW)
     with pytest.raises(TypeError, match="float32"):
         reproject.warp(color, depth.astype(">f4"), **KW)
 
