@@ -136,11 +136,34 @@ reproject_target_buffers buffers_of(const reproject_target& t) noexcept {
   return b;
 }
 
+// C's int32 values as the C++ enums, whose underlying type is uint8_t: a value beyond it must not
+// wrap onto a valid one (257 would become 1, "standard"). Unknown values inside 0..255 are refused
+// by the C++ side; those beyond are refused here, naming the value the caller passed.
+bool fits_enum(int32_t value) noexcept { return value >= 0 && value <= 255; }
+
+Status check_encoding(int32_t encoding) noexcept {
+  if (fits_enum(encoding)) return Status();
+  return Status(StatusCode::invalid_decoder, "depth encoding %d is not a known encoding", static_cast<int>(encoding));
+}
+
+Status check_direction(int32_t direction) noexcept {
+  if (fits_enum(direction)) return Status();
+  return Status(StatusCode::invalid_model, "eye direction %d is not a known direction", static_cast<int>(direction));
+}
+
+// An encoding beyond the enum becomes 255, which no encoding has: an invalid decoder (NaN planes).
+DepthEncoding encoding_of(int32_t encoding) noexcept {
+  return static_cast<DepthEncoding>(fits_enum(encoding) ? encoding : 255);
+}
+EyeDirection direction_of(int32_t direction) noexcept {
+  return static_cast<EyeDirection>(fits_enum(direction) ? direction : 255);
+}
+
 DepthDecoder decoder_of(const reproject_decoder& d) noexcept {
   switch (d.encoding) {
     case REPROJECT_DEPTH_LINEAR: return DepthDecoder::linear();
     case REPROJECT_DEPTH_DISPARITY: return DepthDecoder::disparity();
-    default: return DepthDecoder::from_near_far(static_cast<DepthEncoding>(d.encoding), d.near_plane, d.far_plane);
+    default: return DepthDecoder::from_near_far(encoding_of(d.encoding), d.near_plane, d.far_plane);
   }
 }
 
@@ -156,7 +179,8 @@ reproject_decoder c_decoder(const DepthDecoder& d) noexcept {
 // use of *out fail validation (the factory itself returns the matrix's own message).
 reproject_status from_matrix(const DepthDecoder& d, int32_t encoding, reproject_decoder* out) noexcept {
   if (out == nullptr) return report(Status(StatusCode::null_pointer, "decoder output is null"));
-  const Status status = d.validate();
+  const Status range = check_encoding(encoding);
+  const Status status = range.ok() ? d.validate() : range;
   *out = c_decoder(d);
   if (!status.ok()) {
     out->encoding = encoding;
@@ -165,11 +189,12 @@ reproject_status from_matrix(const DepthDecoder& d, int32_t encoding, reproject_
   return report(status);
 }
 
-reproject_status model_out(const ParallaxModel& m, reproject_parallax* out) noexcept {
+reproject_status model_out(const ParallaxModel& m, int32_t direction, reproject_parallax* out) noexcept {
   if (out == nullptr) return report(Status(StatusCode::null_pointer, "parallax model output is null"));
   out->a = m.a;
   out->b = m.b;
-  return report(m.validate());
+  const Status range = check_direction(direction);
+  return report(range.ok() ? m.validate() : range);
 }
 
 // Copies the fields the caller's struct holds (struct_size) over the defaults.
@@ -239,6 +264,7 @@ reproject_status warp(const reproject_source_buffers& source, const reproject_de
   if (status.ok()) status = source_of(source, left ? "centre" : "source", &s);
   if (status.ok() && left) status = target_of(*left, "left", &l);
   if (status.ok()) status = target_of(right, left ? "right" : "target", &r);
+  if (status.ok()) status = check_encoding(decoder.encoding);
   if (!status.ok()) return report(status);
   const DepthDecoder d = decoder_of(decoder);
   const ParallaxModel m{model.a, model.b};
@@ -301,10 +327,11 @@ void reproject_options_init(reproject_options* options) {
 reproject_status reproject_decoder_from_near_far(int32_t encoding, double near_plane, double far_plane,
                                                  reproject_decoder* out) {
   if (out == nullptr) return report(Status(StatusCode::null_pointer, "decoder output is null"));
-  const DepthDecoder d = DepthDecoder::from_near_far(static_cast<DepthEncoding>(encoding), near_plane, far_plane);
+  const DepthDecoder d = DepthDecoder::from_near_far(encoding_of(encoding), near_plane, far_plane);
   // Keep what the caller passed, so that later uses rebuild (and refuse) the same decoder.
   *out = reproject_decoder{encoding, 0, near_plane, far_plane};
-  return report(d.validate());
+  const Status range = check_encoding(encoding);
+  return report(range.ok() ? d.validate() : range);
 }
 reproject_status reproject_decoder_linear(reproject_decoder* out) {
   return reproject_decoder_from_near_far(REPROJECT_DEPTH_LINEAR, 0.0, 0.0, out);
@@ -313,10 +340,10 @@ reproject_status reproject_decoder_disparity(reproject_decoder* out) {
   return reproject_decoder_from_near_far(REPROJECT_DEPTH_DISPARITY, 0.0, 0.0, out);
 }
 reproject_status reproject_decoder_from_d3d_projection(const float m[16], int32_t encoding, reproject_decoder* out) {
-  return from_matrix(DepthDecoder::from_d3d_projection(m, static_cast<DepthEncoding>(encoding)), encoding, out);
+  return from_matrix(DepthDecoder::from_d3d_projection(m, encoding_of(encoding)), encoding, out);
 }
 reproject_status reproject_decoder_from_gl_projection(const float m[16], int32_t encoding, reproject_decoder* out) {
-  return from_matrix(DepthDecoder::from_gl_projection(m, static_cast<DepthEncoding>(encoding)), encoding, out);
+  return from_matrix(DepthDecoder::from_gl_projection(m, encoding_of(encoding)), encoding, out);
 }
 float reproject_decoder_inverse_depth(const reproject_decoder* decoder, float stored) {
   if (decoder == nullptr) return std::numeric_limits<float>::quiet_NaN();
@@ -329,16 +356,15 @@ float reproject_decoder_linear_depth(const reproject_decoder* decoder, float sto
 
 reproject_status reproject_parallax_from_stereo(double separation, double convergence, int32_t width,
                                                 int32_t direction, reproject_parallax* out) {
-  return model_out(ParallaxModel::from_stereo(separation, convergence, width, static_cast<EyeDirection>(direction)), out);
+  return model_out(ParallaxModel::from_stereo(separation, convergence, width, direction_of(direction)), direction, out);
 }
 reproject_status reproject_parallax_from_physical(double interocular, double screen_width, double convergence,
                                                   int32_t width, int32_t direction, reproject_parallax* out) {
-  return model_out(ParallaxModel::from_physical(interocular, screen_width, convergence, width,
-                                                static_cast<EyeDirection>(direction)),
-                   out);
+  return model_out(ParallaxModel::from_physical(interocular, screen_width, convergence, width, direction_of(direction)),
+                   direction, out);
 }
 reproject_status reproject_parallax_from_disparity(int32_t direction, reproject_parallax* out) {
-  return model_out(ParallaxModel::from_disparity(static_cast<EyeDirection>(direction)), out);
+  return model_out(ParallaxModel::from_disparity(direction_of(direction)), direction, out);
 }
 
 reproject_status reproject_warp(const reproject_source* source, const reproject_decoder* decoder,

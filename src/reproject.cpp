@@ -64,15 +64,16 @@ bool overlap(const ByteRange& x, const ByteRange& y) {
 }
 
 template <class T>
-Status check_plane(const PlaneView<T>& plane, int width, int height, int floats_per_pixel, const char* name) {
+Status check_plane(const PlaneView<T>& plane, int width, int height, int elements_per_pixel, const char* name,
+                   const char* unit = "elements") {
   if (plane.data == nullptr) return Status(StatusCode::null_pointer, "%s: data is null", name);
   if (plane.width < 0 || plane.height < 0)
     return Status(StatusCode::invalid_size, "%s: negative size %dx%d", name, plane.width, plane.height);
   if (plane.width != width || plane.height != height)
     return Status(StatusCode::size_mismatch, "%s: size %dx%d, expected %dx%d", name, plane.width, plane.height, width, height);
-  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(width) * floats_per_pixel;
+  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(width) * elements_per_pixel;
   if (plane.stride < row)
-    return Status(StatusCode::invalid_stride, "%s: stride %td is smaller than the row (%td elements)", name, plane.stride, row);
+    return Status(StatusCode::invalid_stride, "%s: stride %td is smaller than the row (%td %s)", name, plane.stride, row, unit);
   return Status();
 }
 
@@ -88,7 +89,7 @@ Status check_color(const ColorViewT<T>& color, int width, int height, const char
     if (!interleaved || color.channels != 4)
       return Status(StatusCode::size_mismatch, "%s: %s is interleaved RGBA (4 channels); this view says %d %s", name,
                     to_string(color.format), color.channels, interleaved ? "interleaved" : "planar");
-    const Status status = check_plane(color.pixels, width, height, bytes_per_pixel(color.format), "pixels");
+    const Status status = check_plane(color.pixels, width, height, bytes_per_pixel(color.format), "pixels", "bytes");
     if (!status.ok()) return Status(status.code(), "%s %s %s", name, to_string(color.format), status.message());
     return Status();
   }
@@ -110,8 +111,8 @@ Status check_depth_buffer(const DepthBufferT<Byte>& depth, int width, int height
   if (static_cast<unsigned>(depth.format) >= static_cast<unsigned>(kDepthFormatCount))
     return Status(StatusCode::invalid_option, "%s: unknown depth format %d", name, static_cast<int>(depth.format));
   const PlaneView<Byte> bytes{depth.data, depth.width, depth.height, depth.stride};
-  Status status = check_plane(bytes, width, height, bytes_per_pixel(depth.format), name);
-  if (!status.ok()) return Status(status.code(), "%s (%s, stride in bytes)", status.message(), to_string(depth.format));
+  Status status = check_plane(bytes, width, height, bytes_per_pixel(depth.format), name, "bytes");
+  if (!status.ok()) return Status(status.code(), "%s (%s)", status.message(), to_string(depth.format));
   if (depth.format == DepthFormat::float32 &&
       (reinterpret_cast<std::uintptr_t>(depth.data) % alignof(float) != 0 || depth.stride % 4 != 0))
     return Status(StatusCode::invalid_stride, "%s: float32 depth rows must start on 4-byte boundaries (data %p, stride %td bytes)",

@@ -396,7 +396,7 @@ static void format_errors(void) {
   expect_refused(&s, &t, REPROJECT_INVALID_STRIDE, "stride 811 is smaller than the row (812", "pixels stride 4 W - 1");
   s = good;
   s.depth_buffer.stride = 4 * W - 2;
-  expect_refused(&s, &t, REPROJECT_INVALID_STRIDE, "(unorm24_s8, stride in bytes)", "depth_buffer stride 4 W - 2");
+  expect_refused(&s, &t, REPROJECT_INVALID_STRIDE, "bytes) (unorm24_s8)", "depth_buffer stride 4 W - 2");
   s = good;
   t.depth_buffer.stride = 4 * W - 4;
   expect_refused(&s, &t, REPROJECT_INVALID_STRIDE, "target depth_buffer", "target depth_buffer stride 4 W - 4");
@@ -621,6 +621,33 @@ int main(void) {
 
     status = reproject_parallax_from_stereo(0.03, NAN, W, REPROJECT_LEFT_TO_RIGHT, &bad_model);
     CHECK(status == REPROJECT_INVALID_MODEL, "NaN convergence: %d", (int)status);
+
+    /* Values beyond the C++ enums' uint8_t must not wrap onto valid ones (257 would be 1). */
+    {
+      const float projection[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0, -0.1f, 0};
+      reproject_parallax wrapped_model;
+      status = reproject_decoder_from_near_far(REPROJECT_DEPTH_STANDARD + 256, 1.0, 10.0, &bad);
+      CHECK(status == REPROJECT_INVALID_DECODER, "encoding 257: status %d", (int)status);
+      CHECK(strstr(reproject_last_error_message(), "depth encoding 257") != NULL, "message: %s",
+            reproject_last_error_message());
+      CHECK(reproject_warp(&source, &bad, &model, &options, &target, NULL) == REPROJECT_INVALID_DECODER,
+            "warp with encoding 257 must be refused");
+      CHECK(strstr(reproject_last_error_message(), "depth encoding 257") != NULL, "warp message: %s",
+            reproject_last_error_message());
+      CHECK(isnan(reproject_decoder_inverse_depth(&bad, 0.5f)), "encoding 257 decodes to NaN");
+      CHECK(reproject_decoder_from_d3d_projection(projection, REPROJECT_DEPTH_STANDARD + 256, &bad) ==
+                REPROJECT_INVALID_DECODER, "d3d projection with encoding 257 must be refused");
+      CHECK(reproject_decoder_from_gl_projection(projection, -1, &bad) == REPROJECT_INVALID_DECODER,
+            "gl projection with encoding -1 must be refused");
+      status = reproject_parallax_from_stereo(0.03, 4.0, W, REPROJECT_RIGHT_TO_LEFT + 256, &wrapped_model);
+      CHECK(status == REPROJECT_INVALID_MODEL, "direction 257: status %d", (int)status);
+      CHECK(strstr(reproject_last_error_message(), "eye direction 257") != NULL, "message: %s",
+            reproject_last_error_message());
+      CHECK(reproject_parallax_from_physical(0.065, 1.0, 4.0, W, -1, &wrapped_model) == REPROJECT_INVALID_MODEL,
+            "direction -1 must be refused");
+      CHECK(reproject_parallax_from_disparity(REPROJECT_LEFT_TO_RIGHT + 256, &wrapped_model) == REPROJECT_INVALID_MODEL,
+            "disparity direction 256 must be refused");
+    }
 
     target.color.plane[1].stride = W - 1;
     status = reproject_warp(&source, &decoder, &model, &options, &target, NULL);
