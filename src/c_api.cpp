@@ -4,6 +4,8 @@
 #include "reproject/reproject.h"
 
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 
@@ -49,11 +51,23 @@ reproject_status report(const Status& status) noexcept {
   return static_cast<reproject_status>(status.code());
 }
 
-FloatPlane view(const reproject_plane& p) noexcept { return FloatPlane{p.data, p.width, p.height, p.stride}; }
-MutableFloatPlane view(const reproject_mut_plane& p) noexcept {
-  return MutableFloatPlane{p.data, p.width, p.height, p.stride};
+// The C strides are int64_t; where ptrdiff_t is narrower (32-bit targets) a stride beyond it
+// becomes PTRDIFF_MIN, which the validation refuses as shorter than the row, instead of being
+// truncated to a plausible wrong pitch.
+std::ptrdiff_t stride_of(std::int64_t stride) noexcept {
+  if constexpr (sizeof(std::ptrdiff_t) < sizeof(std::int64_t)) {
+    if (stride > PTRDIFF_MAX || stride < PTRDIFF_MIN) return PTRDIFF_MIN;
+  }
+  return static_cast<std::ptrdiff_t>(stride);
 }
-BytePlane view(const reproject_byte_plane& p) noexcept { return BytePlane{p.data, p.width, p.height, p.stride}; }
+
+FloatPlane view(const reproject_plane& p) noexcept { return FloatPlane{p.data, p.width, p.height, stride_of(p.stride)}; }
+MutableFloatPlane view(const reproject_mut_plane& p) noexcept {
+  return MutableFloatPlane{p.data, p.width, p.height, stride_of(p.stride)};
+}
+BytePlane view(const reproject_byte_plane& p) noexcept {
+  return BytePlane{p.data, p.width, p.height, stride_of(p.stride)};
+}
 
 // The C structs to the C++ views: one function per struct, shared by the float-only calls (whose
 // structs are lifted into the _buffers ones) and the _buffers calls. Values that C++ keeps in 8-bit
@@ -67,6 +81,8 @@ Status color_of(const CColor& c, const CPixels& p, const char* name, View* out) 
   if (p.format < 0 || p.format >= kColorFormatCount)
     return Status(StatusCode::invalid_option, "%s pixels.format %d is not a known colour format (REPROJECT_COLOR_*)",
                   name, static_cast<int>(p.format));
+  if (p.reserved != 0)  // kept 0 now, so that a later version may give it a meaning
+    return Status(StatusCode::invalid_option, "%s pixels.reserved is %d; it must be 0", name, static_cast<int>(p.reserved));
   View v;
   if (p.format == REPROJECT_COLOR_FLOAT32) {
     if (p.data != nullptr)
@@ -81,7 +97,7 @@ Status color_of(const CColor& c, const CPixels& p, const char* name, View* out) 
     if (planes)
       return Status(StatusCode::invalid_option, "%s: both color (float planes) and pixels (%s) are set; set one", name,
                     to_string(static_cast<ColorFormat>(p.format)));
-    v = View::packed(static_cast<ColorFormat>(p.format), p.data, p.width, p.height, p.stride);
+    v = View::packed(static_cast<ColorFormat>(p.format), p.data, p.width, p.height, stride_of(p.stride));
   }
   *out = v;
   return Status();
@@ -93,7 +109,10 @@ Status depth_buffer_of(const CBuffer& d, const char* name, Buffer* out) noexcept
     return Status(StatusCode::invalid_option,
                   "%s depth_buffer.format %d is not a known depth format (REPROJECT_DEPTH_FORMAT_*)", name,
                   static_cast<int>(d.format));
-  Buffer b = Buffer::of(static_cast<DepthFormat>(d.format), d.data, d.width, d.height, d.stride);
+  if (d.reserved != 0)
+    return Status(StatusCode::invalid_option, "%s depth_buffer.reserved is %d; it must be 0", name,
+                  static_cast<int>(d.reserved));
+  Buffer b = Buffer::of(static_cast<DepthFormat>(d.format), d.data, d.width, d.height, stride_of(d.stride));
   b.linear_near = d.linear_near;
   b.linear_far = d.linear_far;
   *out = b;

@@ -176,7 +176,7 @@ typedef struct reproject_pixels {
   int32_t height;
   int64_t stride;   /* bytes */
   int32_t format;   /* REPROJECT_COLOR_RGBA8, _RGBA8_SRGB, _RGBA16F; FLOAT32 (0): not used */
-  int32_t reserved; /* 0 */
+  int32_t reserved; /* 0 (anything else is refused: kept for a later version) */
 } reproject_pixels;
 
 typedef struct reproject_mut_pixels {
@@ -185,7 +185,7 @@ typedef struct reproject_mut_pixels {
   int32_t height;
   int64_t stride;   /* bytes */
   int32_t format;   /* the source's */
-  int32_t reserved; /* 0 */
+  int32_t reserved; /* 0 (refused otherwise) */
 } reproject_mut_pixels;
 
 /* A depth buffer in any REPROJECT_DEPTH_FORMAT_* (C++ DepthBuffer): row y starts at
@@ -200,7 +200,7 @@ typedef struct reproject_depth_buffer {
   int32_t format; /* REPROJECT_DEPTH_FORMAT_* */
   float linear_near;
   float linear_far;
-  int32_t reserved; /* 0 */
+  int32_t reserved; /* 0 (refused otherwise) */
 } reproject_depth_buffer;
 
 /* An output depth buffer: in the source's format; its linear range is not read (packed output is
@@ -213,7 +213,7 @@ typedef struct reproject_mut_depth_buffer {
   int32_t format; /* the source's */
   float linear_near;
   float linear_far;
-  int32_t reserved; /* 0 */
+  int32_t reserved; /* 0 (refused otherwise) */
 } reproject_mut_depth_buffer;
 
 /* A source in any formats (C++ SourceView), for reproject_warp_buffers; zero it, then set:

@@ -44,8 +44,9 @@ namespace {
 PlaneView<std::uint8_t> rows_of(const py::array& a, int row_axis, int column_axis, std::ptrdiff_t pixel_bytes,
                                 std::ptrdiff_t offset_bytes, const char* name, const char* unit) {
   const py::ssize_t height = a.shape(row_axis), width = a.shape(column_axis);
-  // One column needs no column stride; one row needs no row stride (numpy may give any value).
-  if (width > 1 && a.strides(column_axis) != pixel_bytes) {
+  // One column needs no column stride; one row needs no row stride (numpy may give any value, and
+  // gives 0 for an empty array, which has nothing to read: the library accepts an empty frame).
+  if (width > 1 && a.size() > 0 && a.strides(column_axis) != pixel_bytes) {
     not_a_view(a, name, (std::string("its columns are not consecutive ") + unit).c_str());
   }
   if (height > INT32_MAX || width > INT32_MAX) throw py::value_error(std::string(name) + ": too large");
@@ -71,7 +72,9 @@ PlaneView<std::uint8_t> pixel_rows(const py::array& a, const char* name) {
   const std::ptrdiff_t item = a.itemsize();
   std::ptrdiff_t pixel = item;
   if (a.ndim() == 3) {
-    if (a.shape(2) > 1 && a.strides(2) != item) not_a_view(a, name, "the channels of its pixels are not consecutive");
+    if (a.shape(2) > 1 && a.size() > 0 && a.strides(2) != item) {
+      not_a_view(a, name, "the channels of its pixels are not consecutive");
+    }
     pixel = item * a.shape(2);
   }
   return rows_of(a, 0, 1, pixel, 0, name, "pixels");
@@ -125,7 +128,9 @@ bool color_view(const py::array& color, ColorForm form, const char* name, View* 
       view.layout = ColorLayout::interleaved_rgba;
       view.channels = 4;
       const PlaneView<std::uint8_t> rows = pixel_rows(color, name);
-      if (rows.stride % element != 0) not_a_view(color, name, "its row stride is not a whole number of floats");
+      if (rows.stride % element != 0 || reinterpret_cast<std::uintptr_t>(rows.data) % alignof(float) != 0) {
+        not_a_view(color, name, "its data or row stride is not aligned to whole floats");
+      }
       view.plane[0] = PlaneView<T>{reinterpret_cast<T*>(rows.data), rows.width, rows.height, rows.stride / element};
       *out = view;
       return true;

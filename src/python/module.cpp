@@ -204,6 +204,23 @@ py::dtype dtype_of(DepthFormat format) {
 
 std::string name_of(const py::dtype& dtype) { return py::str(dtype.attr("name")).cast<std::string>(); }
 
+// How to get from `a`'s dtype to an accepted one, when there is a lossless way: the same type in
+// the other byte order (e.g. '>u2' from a file) only needs the native order. Anything else needs
+// the caller to know what the values mean (a cast of integer depth codes to float would read the
+// codes as depths), so no conversion is suggested.
+std::string dtype_hint(const py::array& a) {
+  const py::dtype native = a.dtype().attr("newbyteorder")("=").cast<py::dtype>();
+  if (!native.equal(a.dtype())) {
+    for (const py::dtype& accepted : {py::dtype::of<float>(), py::dtype::of<std::uint16_t>(), py::dtype::of<std::uint32_t>(),
+                                      py::dtype::of<std::uint8_t>(), py::dtype("float16")}) {
+      if (native.equal(accepted)) {
+        return "; its byte order is not the machine's: pass a.astype(a.dtype.newbyteorder('='))";
+      }
+    }
+  }
+  return "";
+}
+
 // The colour's format: its dtype, and for bytes the colour space they hold.
 ColorFormat color_format_of(const py::array& color, const std::string& color_space) {
   if (color_space != "linear" && color_space != "srgb") {
@@ -216,8 +233,8 @@ ColorFormat color_format_of(const py::array& color, const std::string& color_spa
     format = ColorFormat::rgba16f;
   } else if (!has_dtype(color, dtype_of(ColorFormat::float32))) {
     throw py::type_error("color: expected a float32 array, got " + describe(color) +
-                         "; the accepted dtypes are float32, and uint8 or float16 as (H, W, 4) RGBA "
-                         "(convert with .astype(numpy.float32))");
+                         "; the accepted dtypes are float32, and uint8 or float16 as (H, W, 4) RGBA" +
+                         dtype_hint(color));
   }
   // Float values are linear already; only bytes are sRGB-encoded.
   if (srgb) throw py::value_error("color: color_space='srgb' is for uint8 colour, got " + describe(color));
@@ -230,7 +247,7 @@ DepthFormat depth_format_of(const py::array& depth, const std::optional<std::str
     const DepthFormat format = parse_name<DepthFormat>(*depth_format, parse_depth_format, "depth_format");
     if (!has_dtype(depth, dtype_of(format))) {
       throw py::type_error("depth: depth_format='" + *depth_format + "' reads a " + name_of(dtype_of(format)) +
-                           " array, got " + describe(depth));
+                           " array in the machine's byte order, got " + describe(depth) + dtype_hint(depth));
     }
     return format;
   }
@@ -248,8 +265,8 @@ DepthFormat depth_format_of(const py::array& depth, const std::optional<std::str
                           "depth_format='rgba8_packed_linear' and linear_range=(near, far)");
   }
   throw py::type_error("depth: expected a float32 array, got " + describe(depth) +
-                       "; the accepted dtypes are float32, uint16 (D16) and uint32 (D24S8) as (H, W), and uint8 as "
-                       "(H, W, 4) packed linear depth (convert with .astype(numpy.float32))");
+                       "; the accepted dtypes are float32 (the stored depth value), uint16 (D16 codes) and uint32 "
+                       "(D24S8 words) as (H, W), and uint8 as (H, W, 4) packed linear depth" + dtype_hint(depth));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -357,6 +357,20 @@ static void format_errors(void) {
   expect_refused(&s, &t, REPROJECT_INVALID_OPTION, "color.layout 256", "colour layout 256");
   s = good;
 
+  /* reserved fields must be 0 (so that a later version may use them). */
+  s.pixels.reserved = 12345;
+  expect_refused(&s, &t, REPROJECT_INVALID_OPTION, "pixels.reserved is 12345; it must be 0", "source pixels.reserved");
+  s = good;
+  s.depth_buffer.reserved = -7;
+  expect_refused(&s, &t, REPROJECT_INVALID_OPTION, "depth_buffer.reserved is -7", "source depth_buffer.reserved");
+  s = good;
+  t.pixels.reserved = 99;
+  expect_refused(&s, &t, REPROJECT_INVALID_OPTION, "target pixels.reserved is 99", "target pixels.reserved");
+  t = good_target;
+  t.depth_buffer.reserved = 1;
+  expect_refused(&s, &t, REPROJECT_INVALID_OPTION, "target depth_buffer.reserved is 1", "target depth_buffer.reserved");
+  t = good_target;
+
   /* Target formats unlike the source's. */
   t.pixels.format = REPROJECT_COLOR_RGBA8_SRGB;
   expect_refused(&s, &t, REPROJECT_SIZE_MISMATCH, "format rgba8_srgb, the source's is rgba8", "target colour rgba8_srgb");

@@ -333,6 +333,28 @@ def test_layouts_the_library_cannot_take_are_refused():
         reproject.warp(colour[::-1], depth, **kw)
 
 
+def test_empty_frames_and_misaligned_float_rgba():
+    (colour, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
+    # An empty frame is no error for the library; numpy gives its arrays strides (0, 0), which must
+    # not be mistaken for a layout the library cannot read.
+    # (A model from separation and convergence needs the image width: an explicit one here.)
+    model = reproject.ParallaxModel(2.0, -8.0)
+    decoder = {k: kw[k] for k in ("encoding", "near", "far") if k in kw}
+    for rows, cols in ((0, W), (H, 0), (0, 0)):
+        result = reproject.warp(np.zeros((rows, cols, 4), np.uint8), np.zeros((rows, cols), np.uint16), model=model,
+                                **decoder)
+        assert result.color.shape == (rows, cols, 4) and result.color.dtype == np.uint8
+        result = reproject.warp(np.zeros((rows, cols, 4), np.float32), np.zeros((rows, cols), np.float32),
+                                encoding="linear", model=model)
+        assert result.color.shape == (rows, cols, 4)
+    # Float RGBA one byte off a float boundary: refused like every other float view (it would be
+    # read through misaligned float pointers).
+    raw = np.zeros(H * W * 16 + 4, np.uint8)
+    shifted = np.ndarray((H, W, 4), np.float32, buffer=raw, offset=1)
+    with pytest.raises(ValueError, match=r"color: .*not aligned to whole floats"):
+        reproject.warp(shifted, depth.astype(np.float32) / 65535, encoding="linear", **STEREO)
+
+
 def test_wrong_dtypes_are_type_errors_listing_the_accepted():
     (colour, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
     for bad in (colour.astype(np.uint16), colour.astype(np.float64), colour.astype(np.int8)):
@@ -340,12 +362,21 @@ def test_wrong_dtypes_are_type_errors_listing_the_accepted():
                                             r"\(H, W, 4\) RGBA"):
             reproject.warp(bad, depth, **kw)
     for bad in (depth.astype(np.int16), depth.astype(np.float64), depth.astype(">u2"), depth.astype(np.uint64)):
-        with pytest.raises(TypeError, match=r"depth: expected a float32 array, got .*uint16 \(D16\) and uint32 "
-                                            r"\(D24S8\) as \(H, W\), and uint8 as \(H, W, 4\)"):
+        with pytest.raises(TypeError, match=r"depth: expected a float32 array, got .*uint16 \(D16 codes\) and uint32 "
+                                            r"\(D24S8 words\) as \(H, W\), and uint8 as \(H, W, 4\)") as error:
             reproject.warp(colour, bad, **kw)
-    with pytest.raises(TypeError, match=r"depth: depth_format='unorm16' reads a uint16 array, got float32"):
+        # No cast is suggested: float32 depth is the stored value, so D16 codes cast to float would
+        # be read as depths. Only the byte order has a lossless fix.
+        assert "astype(numpy.float32)" not in str(error.value)
+        assert ("byte order is not the machine's" in str(error.value)) == (bad.dtype == np.dtype(">u2")), error.value
+    with pytest.raises(TypeError, match=r"depth_format='unorm16' reads a uint16 array in the machine's byte order, "
+                                        r"got .*>u2.*newbyteorder\('='\)"):
+        reproject.warp(colour, depth.astype(">u2"), depth_format="unorm16", **kw)
+    with pytest.raises(TypeError, match=r"color: .*byte order is not the machine's"):
+        reproject.warp(colour.astype(np.float32).astype(">f4"), depth, **kw)
+    with pytest.raises(TypeError, match=r"depth: depth_format='unorm16' reads a uint16 array .*, got float32"):
         reproject.warp(colour, depth.astype(np.float32), depth_format="unorm16", **kw)
-    with pytest.raises(TypeError, match=r"depth_format='unorm24_s8' reads a uint32 array, got uint16"):
+    with pytest.raises(TypeError, match=r"depth_format='unorm24_s8' reads a uint32 array .*, got uint16"):
         reproject.warp(colour, depth, depth_format="unorm24_s8", **kw)
     with pytest.raises(TypeError, match=r"out.color: expected a uint8 array \(the source's dtype\), got float32"):
         reproject.warp(colour, depth, out=np.zeros((H, W, 4), np.float32), **kw)
