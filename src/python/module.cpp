@@ -175,9 +175,6 @@ Options options_from(const std::string& method, std::optional<float> max_negativ
 }
 
 // ---------------------------------------------------------------------------------------------
-// Inputs and outputs as views
-
-// ---------------------------------------------------------------------------------------------
 // Engine-native formats (formats.hpp) as NumPy dtypes. Their buffers are read and written in
 // place: the library converts in registers, so the module never converts a pixel.
 
@@ -210,15 +207,12 @@ std::string name_of(const py::dtype& dtype) { return py::str(dtype.attr("name"))
 // codes as depths), so no conversion is suggested.
 std::string dtype_hint(const py::array& a) {
   const py::dtype native = a.dtype().attr("newbyteorder")("=").cast<py::dtype>();
-  if (!native.equal(a.dtype())) {
-    for (const py::dtype& accepted : {py::dtype::of<float>(), py::dtype::of<std::uint16_t>(), py::dtype::of<std::uint32_t>(),
-                                      py::dtype::of<std::uint8_t>(), py::dtype("float16")}) {
-      if (native.equal(accepted)) {
-        return "; its byte order is not the machine's: pass a.astype(a.dtype.newbyteorder('='))";
-      }
-    }
-  }
-  return "";
+  if (native.equal(a.dtype())) return "";
+  // The dtypes taken are those of the formats (dtype_of), float32 among them.
+  bool taken = false;
+  for (int f = 0; f < kColorFormatCount; ++f) taken = taken || native.equal(dtype_of(static_cast<ColorFormat>(f)));
+  for (int f = 0; f < kDepthFormatCount; ++f) taken = taken || native.equal(dtype_of(static_cast<DepthFormat>(f)));
+  return taken ? "; its byte order is not the machine's: pass a.astype(a.dtype.newbyteorder('='))" : "";
 }
 
 // The colour's format: its dtype, and for bytes the colour space they hold.

@@ -236,7 +236,7 @@ void OutputSet::expect(const std::string& flag, const std::string& path) {
   }
   // Reserve the temporary file now: that proves the directory exists and is writable before any
   // work is done, and the name stays ours until commit() or the destructor.
-  // Tracked before it exists, as in create_directories (the name carries our pid).
+  // Tracked before it exists, as in make_directory (the name carries our pid).
   const std::string temporary = sibling(path, "tmp", staged_.size());
   io::track_temporary(temporary);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
