@@ -1,7 +1,7 @@
 // Internal: the kernel tables of each compiled instruction set.
 #pragma once
 
-#include "kernels/frame.hpp"
+#include "kernels/kernel_table.hpp"
 
 namespace reproject {
 namespace detail {
@@ -13,7 +13,7 @@ const KernelTable* avx2_kernels();
 const KernelTable* avx512_kernels();
 
 #if defined(REPROJECT_HAVE_SCALAR_HOST)
-// The scalar references compiled with AVX2 + FMA flags (frame.hpp, CMakeLists.txt).
+// The scalar references compiled with AVX2 + FMA flags (kernels/kernel_table.hpp, CMakeLists.txt).
 namespace host {
 const KernelTable& scalar_kernels(bool fused);
 }
@@ -26,11 +26,6 @@ const KernelTable* compiled_kernels(Arch arch);
 // The scalar reference an instruction set must match bit for bit: the baseline build with its
 // FMA policy.
 const KernelTable& reference_kernels(Arch arch);
-
-// reproject() with explicit kernels (for the tests that hold SIMD to its scalar reference);
-// validates like reproject() and ignores Options::arch.
-Status reproject_with(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
-                      const ParallaxModel& model, const Options& options, const TargetView& target);
 
 }  // namespace detail
 }  // namespace reproject

@@ -1,10 +1,11 @@
-// `exact` (DESIGN §5): the scalar table's forward sweep (kernels/exact_sweep.hpp).
+// `exact` (DESIGN §5): the scalar table's forward sweep (kernels/exact.hpp).
 // Its SIMD twin: kernels/exact_simd.hpp.
-#include "kernels/exact_sweep.hpp"
+#include "kernels/exact.hpp"
+#include "kernels/kernel_table.hpp"
 
 namespace reproject {
 namespace detail {
-inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 template <class Fma>
 void search_row_exact(const Frame& f, RowScratch& scratch, int, int) {

@@ -1,16 +1,16 @@
-// SIMD twin of kernels/exact.cpp (`exact`): the sweep of kernels/exact_sweep.hpp.
+// SIMD twin of kernels/exact.cpp (`exact`): the sweep of kernels/exact.hpp.
 #pragma once
 
 #include <cmath>
 
-#include "kernels/exact_sweep.hpp"
+#include "kernels/exact.hpp"
 #include "kernels/simd.hpp"
 
 namespace reproject {
 namespace detail {
-namespace {  // one copy per arch TU (kernels/simd.hpp)
+namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// ---- exact (scalar twin: sweep_row) ----
+// Scalar twin: sweep_row.
 // Two passes. The sweep itself (sequential: later segments occlude earlier ones) records only
 // which segment or extension paints each target pixel (its code, below). Then each pixel's
 // source x is computed from its code across the lanes, with the scalar sweep's arithmetic.
@@ -133,8 +133,8 @@ bool exact_may_clip(const Frame& f, const float* parallax, float* margin) {
   int j = 0;
   for (; j + L <= f.source_width; j += L) {
     const F p = F::load_unaligned(parallax + j);
-    nearest = xsimd::max(nearest, s * p);
-    largest = xsimd::max(largest, xsimd::abs(p));
+    nearest = vmax(nearest, s * p);
+    largest = vmax(largest, xsimd::abs(p));
   }
   float key = lane_max<Arch>(nearest);
   float magnitude = lane_max<Arch>(largest);
@@ -187,7 +187,7 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
     if (may_clip) {
       // Rays that start behind the surface at the near end: x_near, clipped (parallax_at<Fma>).
       const F x_near = target - p_near;
-      const F column = xsimd::floor(x_near);
+      const F column = vfloor(x_near);
       F q0, q1;
       ColumnFetch<Arch>(column, column + one, f.source_width + f.pad_right).fetch(parallax, q0, q1);
       clip = s * ((target - x_near) - vmadd<Fma>(x_near - column, q1 - q0, q0)) < zero;

@@ -1,11 +1,12 @@
-// The plan every method shares (DESIGN §3–§5) and the row driver. The shared stages' scalar
-// references live in stages.cpp.
+// The plan every method shares (docs/DESIGN.md §3–§5): kernels/frame.hpp's functions.
 #include "kernels/frame.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
-#include "kernels/frame_rows.hpp"
+#include "kernels/color_formats.hpp"
+#include "kernels/depth_formats.hpp"
 #include "kernels/secant.hpp"
 
 namespace reproject {
@@ -13,33 +14,6 @@ namespace detail {
 namespace {
 
 float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi); }
-
-// Whether the decode keeps the row's stored depth values for the resolve (frame.hpp, RowScratch).
-bool stores_depth_values(const Frame& f) {
-  return f.depth_out.data != nullptr && depth_row_kept(f);
-}
-
-void pad_parallax_row(const Frame& f, float* parallax) {
-  std::fill(parallax - f.pad_left, parallax, parallax[0]);
-  std::fill(parallax + f.source_width, parallax + f.source_width + f.pad_right, parallax[f.source_width - 1]);
-}
-
-// Row y of f once its parallax row (`parallax` = scratch.parallax, columns [0, Ws)) holds the
-// decode.
-void search_and_resolve(const Frame& f, const KernelTable& kernels, RowScratch& scratch, float* parallax, int y) {
-  pad_parallax_row(f, parallax);
-  kernels.search[static_cast<int>(f.method)](f, scratch);
-  kernels.resolve(f, y, scratch);
-}
-
-// Scratch for the calling thread, reused across rows and calls (the sequential make_frame() and
-// run_rows(); the threaded calls bring their own).
-RowScratch& thread_scratch(const Frame& f) {
-  thread_local RowScratch scratch;
-  prepare_scratch(f, scratch);
-  scratch.parallax = scratch.parallax_storage.data() + f.pad_left;
-  return scratch;
-}
 
 }  // namespace
 
@@ -128,13 +102,10 @@ void set_near_key(Frame& f, float key_near) {
   f.pad_right = static_cast<int>(std::max(0.0f, std::ceil(-p_min - static_cast<float>(f.guard)))) + 3;
 }
 
-float nearest_key_in_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin,
-                          int row_end) {
-  // Decoded with the same kernels (and FMA policy) as the rows.
-  (void)scratch;
-  float nearest = f.key_far;
-  for (int y = row_begin; y < row_end; ++y) nearest = std::max(nearest, kernels.nearest_key(f, f.depth.row(y)));
-  return nearest;
+bool mirrored_eyes(const Frame& left, const Frame& right) {
+  // b = +-0 (no stereo) gives both eyes s = -1: their keys are then not equal, and the left
+  // eye's clamps are not the mirror of the right's.
+  return left.s == -right.s;
 }
 
 void prepare_scratch(const Frame& f, RowScratch& scratch) {
@@ -157,63 +128,6 @@ void prepare_scratch(const Frame& f, RowScratch& scratch) {
     scratch.block_min.resize(entries);
     scratch.block_max.resize(entries);
   }
-}
-
-Frame make_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
-                 const Options& options, const TargetView& target, const KernelTable& kernels) {
-  Frame f = plan_frame(source, decoder, model, options, target);
-  // The nearest key s * p in the whole frame: the default near end of every ray (DESIGN §5), so
-  // that nothing is clipped.
-  if (near_pass_needed(f))
-    set_near_key(f, nearest_key_in_rows(f, kernels, thread_scratch(f), 0, f.height));
-  return f;
-}
-
-void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, int row_begin, int row_end) {
-  float* parallax = scratch.parallax_storage.data() + f.pad_left;
-  scratch.parallax = parallax;
-  float* stored = stores_depth_values(f) ? scratch.stored_depth.data() : nullptr;
-  for (int y = row_begin; y < row_end; ++y) {
-    kernels.decode(f, f.depth.row(y), parallax, stored);
-    search_and_resolve(f, kernels, scratch, parallax, y);
-  }
-}
-
-bool mirrored_eyes(const Frame& left, const Frame& right) {
-  // b = +-0 (no stereo) gives both eyes s = -1: their keys are then not equal, and the left
-  // eye's clamps are not the mirror of the right's.
-  return left.s == -right.s;
-}
-
-void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& kernels, RowScratch& scratch,
-                   int row_begin, int row_end) {
-  // Column 0 at the same place for both eyes: prepare_scratch sized the storage for the widest
-  // padding on either side, and each eye's own padding is no wider.
-  float* parallax = scratch.parallax_storage.data() + std::max(left.pad_left, right.pad_left);
-  scratch.parallax = parallax;
-  const bool mirrored = mirrored_eyes(left, right);
-  float* stored = stores_depth_values(left) || stores_depth_values(right) ? scratch.stored_depth.data() : nullptr;
-  for (int y = row_begin; y < row_end; ++y) {
-    // Each source row is read from memory once and decoded once: the left eye's model is the
-    // right's mirror (-a, -b), so its decode is the negation of the right eye's, bit for bit
-    // (the decode constants are exact negations, rounding is symmetric, both eyes' keys s * p are
-    // equal, so the clamps pick the same branch; zeros are +0 on both sides, hence 0 - p). The
-    // left eye's colour reads then hit the rows the right eye's resolve has just read.
-    const std::uint8_t* depth = right.depth.row(y);
-    // The stored values are the same for both eyes: the right eye's decode writes them for both.
-    kernels.decode(right, depth, parallax, stored);
-    search_and_resolve(right, kernels, scratch, parallax, y);
-    if (mirrored) {
-      for (int x = 0; x < right.source_width; ++x) parallax[x] = 0.0f - parallax[x];
-    } else {
-      kernels.decode(left, depth, parallax, stored);
-    }
-    search_and_resolve(left, kernels, scratch, parallax, y);
-  }
-}
-
-void run_rows(const Frame& f, const KernelTable& kernels, int row_begin, int row_end) {
-  run_rows(f, kernels, thread_scratch(f), row_begin, row_end);
 }
 
 }  // namespace detail

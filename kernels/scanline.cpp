@@ -3,11 +3,12 @@
 // the previous sample. Samples sit on every integer column in between, so each bracket lies on
 // one linear piece of the surface: exact to rounding inside the allowed range. O(range).
 // Its SIMD twin: kernels/scanline_simd.hpp.
-#include "kernels/frame.hpp"
+#include "kernels/kernel_table.hpp"
+#include "kernels/search.hpp"
 
 namespace reproject {
 namespace detail {
-inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 template <class Fma>
 void search_row_scanline(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {

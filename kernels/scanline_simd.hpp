@@ -1,13 +1,13 @@
 // SIMD twin of kernels/scanline.cpp (`scanline`).
 #pragma once
 
-#include "kernels/simd.hpp"
+#include "kernels/search_simd.hpp"
 
 namespace reproject {
 namespace detail {
-namespace {  // one copy per arch TU (kernels/simd.hpp)
+namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// ---- scanline (scalar twin: search_row_scanline) ----
+// Scalar twin: search_row_scanline.
 
 template <class Arch, class Fma>
 void simd_scanline(const Frame& f, RowScratch& scratch) {

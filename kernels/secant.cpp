@@ -12,11 +12,12 @@
 #include <cmath>
 #include <limits>
 
+#include "kernels/search.hpp"
 #include "kernels/secant.hpp"
 
 namespace reproject {
 namespace detail {
-inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 void build_block_table(const Frame& f, RowScratch& scratch) {
   const int blocks = (f.source_width + kSecantBlock - 1) / kSecantBlock;

@@ -2,7 +2,7 @@
 // the scalar reference (secant.cpp) and its SIMD twin.
 #pragma once
 
-#include "kernels/frame.hpp"
+#include "kernels/kernel_table.hpp"
 
 namespace reproject {
 namespace detail {
@@ -30,7 +30,7 @@ struct TileRay {
   bool column_steps;        // the span fits secant_max_steps: walk every column (exact)
 };
 
-inline namespace REPROJECT_SCALAR_COPY {  // compiled with each scalar copy (frame.hpp)
+inline namespace REPROJECT_SCALAR_COPY {  // compiled with each scalar copy (kernels/kernel_table.hpp)
 
 // Per block of kSecantBlock source columns, the lowest and highest key s * p, with the coarser
 // levels of the sparse table, so that tile_ray() bounds any range of blocks with two lookups

@@ -2,13 +2,13 @@
 #pragma once
 
 #include "kernels/secant.hpp"
-#include "kernels/simd.hpp"
+#include "kernels/search_simd.hpp"
 
 namespace reproject {
 namespace detail {
-namespace {  // one copy per arch TU (kernels/simd.hpp)
+namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// ---- secant (scalar twin: search_row_secant) ----
+// Scalar twin: search_row_secant.
 
 template <class Arch, class Fma>
 void simd_secant(const Frame& f, RowScratch& scratch) {

@@ -1,11 +1,12 @@
 // `single` (DESIGN §6): one point sample at the probe parallax (default: infinity, where the
 // background comes from), re-projected with its own parallax.
 // Its SIMD twin: kernels/single_simd.hpp.
-#include "kernels/frame.hpp"
+#include "kernels/kernel_table.hpp"
+#include "kernels/search.hpp"
 
 namespace reproject {
 namespace detail {
-inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 template <class Fma>
 void search_row_single(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {

@@ -1,13 +1,13 @@
 // SIMD twin of kernels/single.cpp (`single`).
 #pragma once
 
-#include "kernels/simd.hpp"
+#include "kernels/search_simd.hpp"
 
 namespace reproject {
 namespace detail {
-namespace {  // one copy per arch TU (kernels/simd.hpp)
+namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// ---- single (scalar twin: search_row_single) ----
+// Scalar twin: search_row_single.
 
 template <class Arch, class Fma>
 void simd_single(const Frame& f, RowScratch& scratch) {

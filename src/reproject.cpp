@@ -14,7 +14,8 @@
 
 #include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
-#include "kernels/frame_rows.hpp"
+#include "kernels/rows.hpp"
+#include "src/reproject_internal.hpp"
 #include "src/thread_pool.hpp"
 
 namespace reproject {
@@ -348,7 +349,7 @@ void run_band(const RowPhase& phase, int band, RowScratch& scratch) {
   const int begin = static_cast<int>(static_cast<long long>(f.height) * band / phase.bands);
   const int end = static_cast<int>(static_cast<long long>(f.height) * (band + 1) / phase.bands);
   if (phase.near_pass)
-    phase.nearest[band] = detail::nearest_key_in_rows(f, *phase.kernels, scratch, begin, end);
+    phase.nearest[band] = detail::nearest_key_in_rows(f, *phase.kernels, begin, end);
   else if (phase.pair)
     detail::run_pair_rows(phase.frames[0], phase.frames[1], *phase.kernels, scratch, begin, end);
   else
@@ -442,7 +443,7 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
     };
     const float last_key = nearest_key_of(frame_count - 1);
     detail::set_near_key(frames[frame_count - 1], last_key);
-    if (frame_count == 2) {  // a mirrored pair's eyes share the key (frame_rows.hpp)
+    if (frame_count == 2) {  // a mirrored pair's eyes share the key (kernels/frame.hpp)
       detail::set_near_key(frames[0], detail::mirrored_eyes(frames[0], frames[1]) ? last_key : nearest_key_of(0));
     }
     phase.near_pass = false;

@@ -12,7 +12,8 @@
 #include <vector>
 
 #include "kernels/dispatch.hpp"
-#include "kernels/frame_rows.hpp"
+#include "kernels/frame.hpp"
+#include "src/reproject_internal.hpp"
 #include "reproject/reproject.hpp"
 #include "support/arch_report.hpp"
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "kernels/dispatch.hpp"
+#include "src/reproject_internal.hpp"
 #include "reproject/reproject.hpp"
 
 namespace reproject {

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "kernels/dispatch.hpp"
+#include "src/reproject_internal.hpp"
 #include "reproject/reproject.hpp"
 #include "tests/support/arch_report.hpp"
 

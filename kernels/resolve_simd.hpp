@@ -1,120 +1,16 @@
-// SIMD twins of the shared stages of kernels/stages.cpp: the decode, the near end's pass and the
-// resolve.
+// Internal: SIMD twin of kernels/resolve.cpp, the resolve stage every method shares
+// (docs/DESIGN.md §6 "One resolve stage for all").
 #pragma once
 
-#include "kernels/pixel_formats_simd.hpp"
+#include "kernels/color_formats_simd.hpp"
+#include "kernels/depth_formats_simd.hpp"
 #include "kernels/simd.hpp"
 
 namespace reproject {
 namespace detail {
-namespace {  // one copy per arch TU (kernels/simd.hpp)
+namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// ---- decode (scalar twin: decode_parallax_columns) ----
-
-template <class Arch, class Fma>
-void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored) {
-  using F = typename Lanes<Arch>::F;
-  constexpr int L = Lanes<Arch>::size;
-  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
-  const F key_far(f.key_far), p_far(f.p_far), limit(f.limit), near_bound(f.s * f.limit), one(1.0f);
-  int i = 0;
-  with_depth_format(f.depth.format, [&](auto format) {
-    for (; i + L <= f.source_width; i += L) {
-      const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
-      if (stored) d.store_unaligned(stored + i);
-      F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
-      const F key = s * p;
-      p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
-      p = xsimd::select(key > limit, near_bound, p);
-      (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
-    }
-  });
-  decode_parallax_columns<Fma>(f, depth, parallax, stored, i, f.source_width);
-}
-
-// The default near end's pass (scalar twin: nearest_key_in_columns): the same decode, reduced
-// with max (order-independent, and no NaN survives the decode, so any order gives the same bits).
-template <class Arch, class Fma>
-float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
-  using F = typename Lanes<Arch>::F;
-  constexpr int L = Lanes<Arch>::size;
-  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
-  const F key_far(f.key_far), limit(f.limit), one(1.0f);
-  F nearest = key_far;
-  int i = 0;
-  with_depth_format(f.depth.format, [&](auto format) {
-    for (; i + L <= f.source_width; i += L) {
-      const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
-      const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
-      const F key = s * p;
-      // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
-      nearest = xsimd::max(nearest, xsimd::select(key >= key_far, xsimd::min(key, limit), key_far));
-    }
-  });
-  return nearest_key_in_columns<Fma>(f, depth, i, f.source_width, lane_max<Arch>(nearest));
-}
-
-// ---- resolve (scalar twin: resolve_pixels) ----
-
-// Interleaved RGBA: a pixel's four channels are one 128-bit vector, so each lane's pixel is
-// interpolated with one load per endpoint (no gathers). The same operations per channel as the
-// scalar reference: c0 + frac (c1 - c0) with the table's FMA policy.
-template <class Fma>
-__m128 rgba_lerp(__m128 frac, __m128 c0, __m128 c1) {
-  if constexpr (std::is_same<Fma, Fused>::value) {
-#if defined(__FMA__)
-    return _mm_fmadd_ps(frac, _mm_sub_ps(c1, c0), c0);
-#else
-    static_assert(!std::is_same<Fma, Fma>::value, "the fused policy needs an FMA instruction set");
-#endif
-  } else {
-    return _mm_add_ps(_mm_mul_ps(frac, _mm_sub_ps(c1, c0)), c0);
-  }
-}
-
-// A pixel per 128-bit vector: float RGBA (16 bytes) or rgba16f (8 bytes, converted exactly).
-struct FloatRgbaPixel {
-  static constexpr int kBytes = 16;
-  static __m128 load(const std::uint8_t* p) { return _mm_loadu_ps(reinterpret_cast<const float*>(p)); }
-  static void store(std::uint8_t* p, __m128 v) { _mm_storeu_ps(reinterpret_cast<float*>(p), v); }
-};
-struct HalfRgbaPixel {
-  static constexpr int kBytes = 8;
-  static __m128 load(const std::uint8_t* p) { return load_half4(p); }
-  static void store(std::uint8_t* p, __m128 v) { store_half4(p, v); }
-};
-
-// The L pixels of one vector: interpolated between columns j0 and j1 at frac; lanes with
-// `keep` set are left to the caller, lanes with `black` set are written as zeros.
-template <class Arch, class Fma, class Pixel>
-void resolve_rgba_pixels(const std::uint8_t* source, std::uint8_t* target, const xsimd::batch<float, Arch>& j0,
-                         const xsimd::batch<float, Arch>& j1, const xsimd::batch<float, Arch>& frac,
-                         const xsimd::batch_bool<float, Arch>& keep, const xsimd::batch_bool<float, Arch>& black,
-                         bool any_special) {
-  using F = typename Lanes<Arch>::F;
-  using I = typename Lanes<Arch>::I;
-  constexpr int L = Lanes<Arch>::size;
-  alignas(64) std::int32_t first[L], second[L];
-  alignas(64) float weight[L];
-  (xsimd::to_int(j0) * I(Pixel::kBytes)).store_aligned(first);
-  (xsimd::to_int(j1) * I(Pixel::kBytes)).store_aligned(second);
-  frac.store_aligned(weight);
-  auto blend = [&](int i) {
-    return rgba_lerp<Fma>(_mm_set1_ps(weight[i]), Pixel::load(source + first[i]), Pixel::load(source + second[i]));
-  };
-  if (!any_special) {
-    for (int i = 0; i < L; ++i) Pixel::store(target + Pixel::kBytes * i, blend(i));
-    return;
-  }
-  alignas(64) float kept[L], blacked[L];
-  xsimd::select(keep, F(1.0f), F(0.0f)).store_aligned(kept);
-  xsimd::select(black, F(1.0f), F(0.0f)).store_aligned(blacked);
-  for (int i = 0; i < L; ++i) {
-    if (kept[i] != 0.0f) continue;
-    Pixel::store(target + Pixel::kBytes * i, blacked[i] != 0.0f ? _mm_setzero_ps() : blend(i));
-  }
-}
-
+// Scalar twin: resolve_pixels.
 template <class Arch, class Fma>
 void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   using F = typename Lanes<Arch>::F;
@@ -163,9 +59,9 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
     if (mirror_edges) {  // reflected about the edge pixel's centre (then clamped)
       xs = xsimd::select(outside & (x < zero), -x, xsimd::select(outside & (x > last), (last - x) + last, x));
     }
-    const F xc = xsimd::min(xsimd::max(xs, zero), last);  // == x in the row
-    F j0 = xsimd::floor(xc);
-    F j1 = xsimd::min(j0 + one, last);
+    const F xc = vmin(vmax(xs, zero), last);  // == x in the row
+    F j0 = vfloor(xc);
+    F j1 = vmin(j0 + one, last);
     F frac = xc - j0;
     // Every column read below lies in [j0, j1] (a fill picks one of the two).
     ColumnFetch<Arch> columns(j0, j1, f.source_width);

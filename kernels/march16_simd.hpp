@@ -1,13 +1,13 @@
-// SIMD twin of kernels/march.cpp (`march16`).
+// SIMD twin of kernels/march16.cpp (`march16`).
 #pragma once
 
-#include "kernels/simd.hpp"
+#include "kernels/search_simd.hpp"
 
 namespace reproject {
 namespace detail {
-namespace {  // one copy per arch TU (kernels/simd.hpp)
+namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// ---- march16 (scalar twin: search_row_march) ----
+// Scalar twin: search_row_march16.
 // The samples' offsets and parallaxes are the same for every pixel, so they are tabled once per
 // row. Samples run in chunks: inside a chunk, backwards and branch-free (the last select is the
 // first hit, as in the scalar early exit); between chunks, an early exit once every lane has hit.
@@ -15,7 +15,7 @@ namespace {  // one copy per arch TU (kernels/simd.hpp)
 constexpr int kMarchChunk = 16;
 
 template <class Arch, class Fma, bool Positive>
-void simd_march_row(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax) {
+void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax) {
   using F = typename Lanes<Arch>::F;
   using B = typename Lanes<Arch>::B;
   constexpr int L = Lanes<Arch>::size;
@@ -52,11 +52,11 @@ void simd_march_row(const Frame& f, RowScratch& scratch, const int* sample_offse
     }
     (target - hit_parallax).store_unaligned(scratch.source_x.data() + t);
   }
-  search_row_march<Fma>(f, scratch, t, f.target_width);
+  search_row_march16<Fma>(f, scratch, t, f.target_width);
 }
 
 template <class Arch, class Fma>
-void simd_march(const Frame& f, RowScratch& scratch) {
+void simd_march16(const Frame& f, RowScratch& scratch) {
   // At most 1025 samples (Options::march_steps <= 1024).
   int sample_offset[1025];
   float sample_parallax[1025];
@@ -64,8 +64,8 @@ void simd_march(const Frame& f, RowScratch& scratch) {
     sample_parallax[k] = madd<Fma>(static_cast<float>(k), f.march_step, f.p_near);
     sample_offset[k] = point_offset(sample_parallax[k]);
   }
-  if (f.s > 0.0f) simd_march_row<Arch, Fma, true>(f, scratch, sample_offset, sample_parallax);
-  else simd_march_row<Arch, Fma, false>(f, scratch, sample_offset, sample_parallax);
+  if (f.s > 0.0f) simd_march16_row<Arch, Fma, true>(f, scratch, sample_offset, sample_parallax);
+  else simd_march16_row<Arch, Fma, false>(f, scratch, sample_offset, sample_parallax);
 }
 
 }  // namespace

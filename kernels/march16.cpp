@@ -1,14 +1,15 @@
 // `march16` (DESIGN §6): march_steps + 1 point samples at equal parallax steps from p_near to
 // p_far; the first sample on or behind the surface is re-projected with its own parallax.
-// Its SIMD twin: kernels/march_simd.hpp.
-#include "kernels/frame.hpp"
+// Its SIMD twin: kernels/march16_simd.hpp.
+#include "kernels/kernel_table.hpp"
+#include "kernels/search.hpp"
 
 namespace reproject {
 namespace detail {
-inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (frame.hpp)
+inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 template <class Fma>
-void search_row_march(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
+void search_row_march16(const Frame& f, RowScratch& scratch, int t_begin, int t_end) {
   const float* parallax = scratch.parallax;
   for (int t = t_begin; t < t_end; ++t) {
     const int target = t + f.guard;
@@ -28,8 +29,8 @@ void search_row_march(const Frame& f, RowScratch& scratch, int t_begin, int t_en
   }
 }
 
-template void search_row_march<Fused>(const Frame&, RowScratch&, int, int);
-template void search_row_march<Unfused>(const Frame&, RowScratch&, int, int);
+template void search_row_march16<Fused>(const Frame&, RowScratch&, int, int);
+template void search_row_march16<Unfused>(const Frame&, RowScratch&, int, int);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
 }  // namespace detail

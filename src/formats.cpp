@@ -1,61 +1,15 @@
-// The sRGB tables of kernels/pixel_formats.hpp, and the public conversions of reproject/formats.hpp
-// (the same functions the kernels use).
-#include "kernels/pixel_formats.hpp"
+// The public side of reproject/formats.hpp: the formats' names and sizes, and the conversions the
+// kernels use (kernels/codes.hpp, kernels/color_formats.hpp, kernels/depth_formats.hpp), so that
+// callers and tests convert exactly as the kernels do.
+#include "reproject/formats.hpp"
 
-#include <cmath>
 #include <cstring>
 #include <limits>
 
+#include "kernels/color_formats.hpp"
+#include "kernels/depth_formats.hpp"
+
 namespace reproject {
-namespace detail {
-namespace {
-
-// The sRGB curve in double (IEC 61966-2-1).
-double srgb_decode_exact(double encoded) {
-  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
-}
-double srgb_encode_exact(double linear) {
-  return linear <= 0.0031308 ? linear * 12.92 : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
-}
-
-// The smallest positive float whose encoded value reaches byte k's lower rounding bound
-// (k - 1/2) / 255: from there on, round(255 encode(x)) >= k.
-float srgb_threshold(int k) {
-  const double bound = (k - 0.5) / 255.0;
-  std::uint32_t bits = bits_of_float(static_cast<float>(srgb_decode_exact(bound)));
-  while (255.0 * srgb_encode_exact(float_of_bits(bits - 1)) >= k - 0.5) --bits;
-  while (255.0 * srgb_encode_exact(float_of_bits(bits)) < k - 0.5) ++bits;
-  return float_of_bits(bits);
-}
-
-SrgbTables build_srgb_tables() {
-  SrgbTables t{};
-  for (int byte = 0; byte < 256; ++byte) t.to_linear[byte] = static_cast<float>(srgb_decode_exact(byte / 255.0));
-  float threshold[257];
-  for (int k = 1; k < 256; ++k) threshold[k] = srgb_threshold(k);
-  threshold[256] = 2.0f;  // beyond every clamped value
-  int byte = 0;
-  for (int b = 0; b < kSrgbBuckets; ++b) {
-    const float lowest = float_of_bits((kSrgbFirstBucket + static_cast<std::uint32_t>(b)) << kSrgbBucketShift);
-    while (byte < 255 && threshold[byte + 1] <= lowest) ++byte;
-    t.bucket_byte[b] = byte;
-    t.bucket_next[b] = threshold[byte + 1];
-    // The bucket must not hold a second threshold (kernels/pixel_formats.hpp); the shift is
-    // chosen so that it never does, and this keeps it so.
-    const float next_bucket = float_of_bits((kSrgbFirstBucket + static_cast<std::uint32_t>(b) + 1) << kSrgbBucketShift);
-    if (byte + 2 <= 256 && threshold[byte + 2] < next_bucket && b + 1 < kSrgbBuckets) __builtin_trap();
-  }
-  return t;
-}
-
-}  // namespace
-
-const SrgbTables& srgb_tables() {
-  static const SrgbTables tables = build_srgb_tables();
-  return tables;
-}
-
-}  // namespace detail
 
 namespace {
 const char* const kColorFormatNames[kColorFormatCount] = {"float32", "rgba8", "rgba8_srgb", "rgba16f"};

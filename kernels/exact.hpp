@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "kernels/frame.hpp"
+#include "kernels/search.hpp"
 
 namespace reproject {
 namespace detail {

@@ -1,0 +1,110 @@
+// Internal: the scalar loads, blends and stores of the colour formats (reproject/formats.hpp
+// ColorFormat, docs/BEHAVIOUR.md "Pixel formats"): float planes and RGBA, rgba8, rgba8_srgb through
+// exact sRGB tables, rgba16f. The resolve stage writes colour through ColorRow only; its SIMD
+// twins are in kernels/color_formats_simd.hpp, the sRGB tables are built in color_formats.cpp.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "kernels/codes.hpp"
+#include "kernels/fma.hpp"
+#include "kernels/frame.hpp"
+
+namespace reproject {
+namespace detail {
+
+// sRGB tables, built once (color_formats.cpp). Encoding a linear value looks up its bucket by
+// the float's top bits (kSrgbBucketShift): each bucket holds at most one rounding threshold, so
+// the byte is the bucket's first byte, plus one at or beyond that threshold.
+constexpr int kSrgbBucketShift = 16;
+constexpr std::uint32_t kSrgbFirstBucket = 0x391fu;  // bits >> 16 of the first threshold (~1.5e-4)
+constexpr std::uint32_t kSrgbLastBucket = 0x3f80u;   // bits >> 16 of 1.0f
+constexpr int kSrgbBuckets = static_cast<int>(kSrgbLastBucket - kSrgbFirstBucket + 1);
+struct SrgbTables {
+  float to_linear[256];              // the exact linear value of each byte, rounded to float
+  std::int32_t bucket_byte[kSrgbBuckets];  // the byte of the bucket's lowest float
+  float bucket_next[kSrgbBuckets];   // the smallest float of the next byte (may lie past the bucket)
+};
+const SrgbTables& srgb_tables();
+
+namespace {  // one copy per translation unit (kernels/fma.hpp)
+
+// rgba8_srgb: the byte whose sRGB value is nearest to a linear value (reproject::formats).
+inline std::uint8_t srgb_encode(const SrgbTables& tables, float linear) noexcept {
+  const float lowest = float_of_bits(kSrgbFirstBucket << kSrgbBucketShift);
+  float l = linear > lowest ? linear : lowest;  // NaN too
+  l = l < 1.0f ? l : 1.0f;
+  const int bucket = static_cast<int>((bits_of_float(l) >> kSrgbBucketShift) - kSrgbFirstBucket);
+  return static_cast<std::uint8_t>(tables.bucket_byte[bucket] + (l >= tables.bucket_next[bucket] ? 1 : 0));
+}
+
+// A row's colour in its format: writes target pixel t as source columns j0 and j1 blended at
+// `frac` (c0 + frac (c1 - c0) per channel with the table's FMA policy), or as zeros (`black`).
+// Float values are blended as they are; rgba8 as the byte values, rgba8_srgb's R, G, B as their
+// linear values, rgba16f as the halves' values; then each is stored in the format, rounded to
+// nearest even (docs/BEHAVIOUR.md "Pixel formats").
+template <class Fma>
+struct ColorRow {
+  ColorFormat format;
+  const SrgbTables* srgb;
+  const float* src[4];
+  float* dst[4];
+  int channels;
+  int pixel_step;  // floats: 1 planar, 4 interleaved
+  const std::uint8_t* src_bytes;
+  std::uint8_t* dst_bytes;
+
+  ColorRow(const Frame& f, int y) : format(f.color_format), srgb(f.srgb) {
+    channels = f.source.color.channels;
+    if (format != ColorFormat::float32) {
+      src_bytes = f.source.color.pixels.row(y);
+      dst_bytes = f.target.color.pixels.row(y);
+      return;
+    }
+    const bool interleaved = f.source.color.layout == ColorLayout::interleaved_rgba;
+    pixel_step = interleaved ? 4 : 1;
+    for (int c = 0; c < channels; ++c) {
+      const int plane = interleaved ? 0 : c;
+      const int offset = interleaved ? c : 0;
+      src[c] = f.source.color.plane[plane].row(y) + offset;
+      dst[c] = f.target.color.plane[plane].row(y) + offset;
+    }
+  }
+  static float blend(float frac, float c0, float c1) { return madd<Fma>(frac, c1 - c0, c0); }
+  static std::uint8_t unorm8(float value) { return static_cast<std::uint8_t>(round_even(clamp_code(value, 255.0f))); }
+
+  void write(int t, int j0, int j1, float frac, bool black) const {
+    const std::ptrdiff_t a = j0, b = j1, out = t;
+    switch (format) {
+      case ColorFormat::float32:
+        for (int c = 0; c < channels; ++c)
+          dst[c][out * pixel_step] = black ? 0.0f : blend(frac, src[c][a * pixel_step], src[c][b * pixel_step]);
+        return;
+      case ColorFormat::rgba8:
+      case ColorFormat::rgba8_srgb:
+        for (int c = 0; c < 4; ++c) {
+          const std::uint8_t c0 = src_bytes[4 * a + c], c1 = src_bytes[4 * b + c];
+          std::uint8_t value = 0;
+          if (black) {
+          } else if (format == ColorFormat::rgba8_srgb && c < 3) {
+            value = srgb_encode(*srgb, blend(frac, srgb->to_linear[c0], srgb->to_linear[c1]));
+          } else {
+            value = unorm8(blend(frac, static_cast<float>(c0), static_cast<float>(c1)));
+          }
+          dst_bytes[4 * out + c] = value;
+        }
+        return;
+      case ColorFormat::rgba16f:
+        for (int c = 0; c < 4; ++c) {
+          const std::uint16_t h0 = load_u16_at(src_bytes + 8 * a + 2 * c), h1 = load_u16_at(src_bytes + 8 * b + 2 * c);
+          store_u16_at(dst_bytes + 8 * out + 2 * c, black ? 0 : float_to_half(blend(frac, half_to_float(h0), half_to_float(h1))));
+        }
+        return;
+    }
+  }
+};
+
+}  // namespace
+}  // namespace detail
+}  // namespace reproject

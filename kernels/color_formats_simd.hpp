@@ -1,0 +1,101 @@
+// Internal: SIMD twins of kernels/color_formats.hpp's colour blends (ColorRow::write;
+// docs/BEHAVIOUR.md "Pixel formats"): the same integer arithmetic and correctly rounded float
+// operations, lane by lane, so every arch stores the same bits as the scalar reference. Used by
+// kernels/resolve_simd.hpp.
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/codes_simd.hpp"
+#include "kernels/color_formats.hpp"
+
+namespace reproject {
+namespace detail {
+namespace {  // one copy per arch TU (kernels/fma.hpp)
+
+// rgba8 / rgba8_srgb: L pixels' words blended channel by channel (scalar twin: ColorRow::write).
+// The rgba8 blend of two bytes lies between them (frac is in [0, 1] and both ends are floats),
+// so the scalar reference's clamp never acts and the rounding is the conversion instruction's
+// (round to nearest even, the default mode the scalar (x + 2^23) - 2^23 relies on too).
+template <class Arch, class Fma, bool Srgb>
+REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0,
+                                                                 const IntLanes<Arch>& w1,
+                                                                 const xsimd::batch<float, Arch>& frac) {
+  using F = typename Lanes<Arch>::F;
+  using I = IntLanes<Arch>;
+  I out(0);
+  for (int c = 0; c < 4; ++c) {
+    // (A shift of 24 leaves the sign bits of an arithmetic shift: masked like the others.)
+    const I b0 = c == 0 ? w0 & I(0xff) : (w0 >> (8 * c)) & I(0xff);
+    const I b1 = c == 0 ? w1 & I(0xff) : (w1 >> (8 * c)) & I(0xff);
+    I byte;
+    if (Srgb && c < 3) {
+      const F l0 = gather<Arch>(f.srgb->to_linear, b0);
+      const F l1 = gather<Arch>(f.srgb->to_linear, b1);
+      const F linear = vmadd<Fma>(frac, l1 - l0, l0);
+      // srgb_encode: the bucket's byte, plus one at or beyond its threshold.
+      const F lowest(float_of_bits(kSrgbFirstBucket << kSrgbBucketShift));
+      F l = xsimd::select(linear > lowest, linear, lowest);
+      l = xsimd::select(l < F(1.0f), l, F(1.0f));
+      const I bucket = (bits_of<Arch>(l) >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket));
+      const I first = bits_of<Arch>(gather<Arch>(reinterpret_cast<const float*>(f.srgb->bucket_byte), bucket));
+      const F next = gather<Arch>(f.srgb->bucket_next, bucket);
+      byte = first + xsimd::to_int(xsimd::select(l >= next, F(1.0f), F(0.0f)));
+    } else {
+      // float(b1 - b0) is float(b1) - float(b0) exactly (small integers): one conversion fewer.
+      byte = xsimd::nearbyint_as_int(vmadd<Fma>(frac, xsimd::to_float(b1 - b0), xsimd::to_float(b0)));
+    }
+    out = out | (byte << (8 * c));
+  }
+  return out;
+}
+
+// Float RGBA and rgba16f: a pixel's four channels are one 128-bit register, so each lane's pixel
+// is interpolated with one load per endpoint (no gathers); the same operations per channel as
+// ColorRow (lerp4: c0 + frac (c1 - c0) with the table's FMA policy). A pixel is 16 bytes (float)
+// or 8 (halves, converted exactly by the arch layer).
+struct FloatRgbaPixel {
+  static constexpr int kBytes = 16;
+  static Pixel4 load(const std::uint8_t* p) { return load_float4(p); }
+  static void store(std::uint8_t* p, Pixel4 v) { store_float4(p, v); }
+};
+struct HalfRgbaPixel {
+  static constexpr int kBytes = 8;
+  static Pixel4 load(const std::uint8_t* p) { return load_half4(p); }
+  static void store(std::uint8_t* p, Pixel4 v) { store_half4(p, v); }
+};
+
+// The L pixels of one vector: interpolated between columns j0 and j1 at frac; lanes with
+// `keep` set are left to the caller, lanes with `black` set are written as zeros.
+template <class Arch, class Fma, class Pixel>
+void resolve_rgba_pixels(const std::uint8_t* source, std::uint8_t* target, const xsimd::batch<float, Arch>& j0,
+                         const xsimd::batch<float, Arch>& j1, const xsimd::batch<float, Arch>& frac,
+                         const xsimd::batch_bool<float, Arch>& keep, const xsimd::batch_bool<float, Arch>& black,
+                         bool any_special) {
+  using F = typename Lanes<Arch>::F;
+  using I = typename Lanes<Arch>::I;
+  constexpr int L = Lanes<Arch>::size;
+  alignas(64) std::int32_t first[L], second[L];
+  alignas(64) float weight[L];
+  (xsimd::to_int(j0) * I(Pixel::kBytes)).store_aligned(first);
+  (xsimd::to_int(j1) * I(Pixel::kBytes)).store_aligned(second);
+  frac.store_aligned(weight);
+  auto blend = [&](int i) {
+    return lerp4<Fma>(pixel4_splat(weight[i]), Pixel::load(source + first[i]), Pixel::load(source + second[i]));
+  };
+  if (!any_special) {
+    for (int i = 0; i < L; ++i) Pixel::store(target + Pixel::kBytes * i, blend(i));
+    return;
+  }
+  alignas(64) float kept[L], blacked[L];
+  xsimd::select(keep, F(1.0f), F(0.0f)).store_aligned(kept);
+  xsimd::select(black, F(1.0f), F(0.0f)).store_aligned(blacked);
+  for (int i = 0; i < L; ++i) {
+    if (kept[i] != 0.0f) continue;
+    Pixel::store(target + Pixel::kBytes * i, blacked[i] != 0.0f ? pixel4_zero() : blend(i));
+  }
+}
+
+}  // namespace
+}  // namespace detail
+}  // namespace reproject

@@ -1,0 +1,58 @@
+// Internal: SIMD twins of kernels/decode.cpp: the per-row parallax decode and the near limit's
+// pass over the depth.
+#pragma once
+
+#include "kernels/depth_formats_simd.hpp"
+#include "kernels/simd.hpp"
+
+namespace reproject {
+namespace detail {
+namespace {  // one copy per arch TU (kernels/fma.hpp)
+
+// Scalar twin: decode_parallax_columns.
+template <class Arch, class Fma>
+void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
+  const F key_far(f.key_far), p_far(f.p_far), limit(f.limit), near_bound(f.s * f.limit), one(1.0f);
+  int i = 0;
+  with_depth_format(f.depth.format, [&](auto format) {
+    for (; i + L <= f.source_width; i += L) {
+      const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
+      if (stored) d.store_unaligned(stored + i);
+      F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+      const F key = s * p;
+      p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
+      p = xsimd::select(key > limit, near_bound, p);
+      (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
+    }
+  });
+  decode_parallax_columns<Fma>(f, depth, parallax, stored, i, f.source_width);
+}
+
+// The default near end's pass (scalar twin: nearest_key_in_columns): the same decode, reduced
+// with max (order-independent, and no NaN survives the decode, so any order gives the same bits).
+template <class Arch, class Fma>
+float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
+  using F = typename Lanes<Arch>::F;
+  constexpr int L = Lanes<Arch>::size;
+  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
+  const F key_far(f.key_far), limit(f.limit), one(1.0f);
+  F nearest = key_far;
+  int i = 0;
+  with_depth_format(f.depth.format, [&](auto format) {
+    for (; i + L <= f.source_width; i += L) {
+      const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
+      const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+      const F key = s * p;
+      // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
+      nearest = vmax(nearest, xsimd::select(key >= key_far, vmin(key, limit), key_far));
+    }
+  });
+  return nearest_key_in_columns<Fma>(f, depth, i, f.source_width, lane_max<Arch>(nearest));
+}
+
+}  // namespace
+}  // namespace detail
+}  // namespace reproject

@@ -1,0 +1,17 @@
+// Internal: what src/reproject.cpp offers beside the public API, for the tests and fuzzers that
+// hold every instruction set to its scalar reference. Not installed.
+#pragma once
+
+#include "kernels/kernel_table.hpp"
+#include "reproject/reproject.hpp"
+
+namespace reproject {
+namespace detail {
+
+// reproject() with explicit kernels (kernels/dispatch.hpp: compiled_kernels, reference_kernels);
+// validates like reproject() and ignores Options::arch.
+Status reproject_with(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
+                      const ParallaxModel& model, const Options& options, const TargetView& target);
+
+}  // namespace detail
+}  // namespace reproject
