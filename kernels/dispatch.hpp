@@ -6,8 +6,8 @@
 namespace reproject {
 namespace detail {
 
-// Each is defined in its own translation unit built with that instruction set's flags; a
-// null table means the set was not compiled in.
+// Each is defined in its own translation unit built with that instruction set's flags
+// (kernels/arch_<set>.cpp), when CMake compiles it for the target processor.
 const KernelTable* sse_kernels();
 const KernelTable* avx2_kernels();
 const KernelTable* avx512_kernels();
@@ -19,8 +19,9 @@ const KernelTable& scalar_kernels(bool fused);
 }
 #endif
 
-// The table for an instruction set, or null when it was not compiled in (ignores the CPU). For
-// Arch::scalar: the AVX2 + FMA build of the scalar references on CPUs that have both.
+// The table for an instruction set, or null when it was not compiled in (ignores the CPU:
+// kernels/cpu.hpp says what it supports). For Arch::scalar: the AVX2 + FMA build of the scalar
+// references on CPUs that have both.
 const KernelTable* compiled_kernels(Arch arch);
 
 // The scalar reference an instruction set must match bit for bit: the baseline build with its
