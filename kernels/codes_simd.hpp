@@ -51,7 +51,7 @@ xsimd::batch<float, Arch> unorm_values(const IntLanes<Arch>& code) {
     const F x = xsimd::to_float(code) * F(kUnit);
     return vmadd<Fma>(x, F(kAbove), x);
   } else {
-    return xsimd::to_float(code) / F(kMax);
+    return vdiv(xsimd::to_float(code), F(kMax));
   }
 }
 // Scalar twin: unorm_code.

@@ -43,7 +43,7 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
       byte = first + xsimd::to_int(xsimd::select(l >= next, F(1.0f), F(0.0f)));
     } else {
       // float(b1 - b0) is float(b1) - float(b0) exactly (small integers): one conversion fewer.
-      byte = xsimd::nearbyint_as_int(vmadd<Fma>(frac, xsimd::to_float(b1 - b0), xsimd::to_float(b0)));
+      byte = round_to_int<Arch>(vmadd<Fma>(frac, xsimd::to_float(b1 - b0), xsimd::to_float(b0)));
     }
     out = out | (byte << (8 * c));
   }

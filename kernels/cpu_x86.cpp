@@ -49,6 +49,7 @@ bool cpu_supports(Arch arch) noexcept {
     case Arch::sse: return cpu.sse41;
     case Arch::avx2: return cpu.avx2_fma;
     case Arch::avx512: return cpu.avx512;
+    case Arch::neon: return false;
   }
   return false;
 }

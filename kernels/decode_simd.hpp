@@ -21,7 +21,7 @@ void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, flo
     for (; i + L <= f.source_width; i += L) {
       const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
       if (stored) d.store_unaligned(stored + i);
-      F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+      F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
       const F key = s * p;
       p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
       p = xsimd::select(key > limit, near_bound, p);
@@ -44,7 +44,7 @@ float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
   with_depth_format(f.depth.format, [&](auto format) {
     for (; i + L <= f.source_width; i += L) {
       const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
-      const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, one / d, a);
+      const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
       const F key = s * p;
       // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
       nearest = vmax(nearest, xsimd::select(key >= key_far, vmin(key, limit), key_far));

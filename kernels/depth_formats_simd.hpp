@@ -38,7 +38,7 @@ xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<A
   if constexpr (Format == DepthFormat::s8_unorm24) return unorm_values<Arch, Fma, 24>((word >> 8) & I(0xffffff));
   if constexpr (Format == DepthFormat::rgba8_packed_linear) {
     const I code = (word & I(0xff)) * I(65025) + ((word >> 8) & I(0xff)) * I(255) + ((word >> 16) & I(0xff));
-    return (xsimd::to_float(code) / F(kPackedMax)) * F(f.packed_range) + F(f.packed_near);  // never fused
+    return vdiv(xsimd::to_float(code), F(kPackedMax)) * F(f.packed_range) + F(f.packed_near);  // never fused
   }
 }
 template <class Arch, class Fma>
@@ -79,13 +79,13 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> depth_words(const Frame& f, const 
     case DepthFormat::unorm24_s8: return unorm_code_v<Arch>(d, kUnorm24Max) | (kept & I(static_cast<std::int32_t>(0xff000000u)));
     case DepthFormat::s8_unorm24: return (unorm_code_v<Arch>(d, kUnorm24Max) << 8) | (kept & I(0xff));
     case DepthFormat::rgba8_packed_linear: {
-      const F v = (d - F(f.packed_near)) / F(f.packed_range);
+      const F v = vdiv(d - F(f.packed_near), F(f.packed_range));
       const I n = xsimd::to_int(round_even_v<Arch>(clamp_code_v<Arch>(v * F(kPackedMax), kPackedMax - 1.0f)));
       // Exact quotients from correctly rounded float divisions: n < 2^24, and each true quotient
       // lies at least 1/65025 (1/255) below the next integer, more than the division's rounding.
-      const I r = xsimd::to_int(xsimd::to_float(n) / F(65025.0f));
+      const I r = xsimd::to_int(vdiv(xsimd::to_float(n), F(65025.0f)));
       const I rest = n - r * I(65025);
-      const I g = xsimd::to_int(xsimd::to_float(rest) / F(255.0f));
+      const I g = xsimd::to_int(vdiv(xsimd::to_float(rest), F(255.0f)));
       return r | (g << 8) | ((rest - g * I(255)) << 16) | (kept & I(static_cast<std::int32_t>(0xff000000u)));
     }
     case DepthFormat::float32: break;

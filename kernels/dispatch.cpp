@@ -32,6 +32,12 @@ const KernelTable* compiled_kernels(Arch arch) {
 #else
       return nullptr;
 #endif
+    case Arch::neon:
+#if defined(REPROJECT_HAVE_NEON)
+      return neon_kernels();
+#else
+      return nullptr;
+#endif
   }
   return nullptr;
 }

@@ -11,6 +11,7 @@ namespace detail {
 const KernelTable* sse_kernels();
 const KernelTable* avx2_kernels();
 const KernelTable* avx512_kernels();
+const KernelTable* neon_kernels();
 
 #if defined(REPROJECT_HAVE_SCALAR_HOST)
 // The scalar references compiled with AVX2 + FMA flags (kernels/kernel_table.hpp, CMakeLists.txt).

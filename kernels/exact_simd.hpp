@@ -41,7 +41,7 @@ xsimd::batch<float, Arch> segment_frac_v(const xsimd::batch<float, Arch>& target
                                          const xsimd::batch<float, Arch>& p0, const xsimd::batch<float, Arch>& length) {
   using F = xsimd::batch<float, Arch>;
   const F zero(0.0f), one(1.0f);
-  const F ratio = (target - j - p0) / length;
+  const F ratio = vdiv(target - j - p0, length);
   return xsimd::select(ratio < zero, zero, xsimd::select(one < ratio, one, ratio));  // std::clamp
 }
 

@@ -131,8 +131,8 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
         if (f.affine) {
           d = vmadd<Fma>(frac, d1 - d0, d0);
         } else {
-          const F w0 = one / d0;
-          d = one / vmadd<Fma>(frac, one / d1 - w0, w0);
+          const F w0 = vdiv(one, d0);
+          d = vdiv(one, vmadd<Fma>(frac, vdiv(one, d1) - w0, w0));
         }
         float* out = reinterpret_cast<float*>(depth_out + static_cast<std::ptrdiff_t>(t) * depth_bytes);
         if (float_depth) {

@@ -26,7 +26,7 @@ xsimd::batch<float, Arch> parallax_at_offset_v(const float* parallax, int target
 template <class Arch, class Fma>
 xsimd::batch<float, Arch> intersect_v(const xsimd::batch<float, Arch>& x_front, const xsimd::batch<float, Arch>& gap_front,
                                       const xsimd::batch<float, Arch>& x_behind, const xsimd::batch<float, Arch>& gap_behind) {
-  const auto t = gap_front / (gap_front - gap_behind);
+  const auto t = vdiv(gap_front, gap_front - gap_behind);
   return vmadd<Fma>(t, x_behind - x_front, x_front);
 }
 

@@ -1,5 +1,6 @@
 // Internal: the SIMD primitives every twin shares, written once with xsimd over the arch layer
-// (kernels/simd_x86.hpp: FMA per width, gathers, permutes, lane reductions, byte stores).
+// (kernels/simd_x86.hpp, kernels/simd_neon.hpp: FMA per width, floor/min/max, gathers, permutes,
+// lane reductions, byte, 16-bit and half stores).
 // Instantiated per instruction set by kernels/arch_<set>.cpp, each compiled with its own flags
 // (kernels/simd_table.hpp assembles a table). Lanes are consecutive target pixels.
 //
@@ -17,7 +18,14 @@
 // row loops (GCC and Clang; MSVC would spell it __forceinline).
 #define REPROJECT_ALWAYS_INLINE __attribute__((always_inline))
 
+// The arch layer of the processor family this translation unit is compiled for.
+#if defined(__aarch64__) || defined(_M_ARM64)
+#include "kernels/simd_neon.hpp"
+#elif defined(__x86_64__) || defined(__i386__) || defined(_M_X64) || defined(_M_IX86)
 #include "kernels/simd_x86.hpp"
+#else
+#error "no arch layer for this processor: CMake compiles no SIMD table here (REPROJECT_SIMD)"
+#endif
 
 namespace reproject {
 namespace detail {
@@ -135,18 +143,18 @@ class ColumnFetch {
       if (base_ + L < row_length_ &&
           xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
                      (second_from_base <= F(static_cast<float>(L))))) {
-        first_.index = xsimd::to_int(from_base);
-        second_.index = xsimd::to_int(second_from_base - F(1.0f));
+        first_shifted_ = prepare_permute<Arch>(xsimd::to_int(from_base));
+        second_shifted_ = prepare_permute<Arch>(xsimd::to_int(second_from_base - F(1.0f)));
         return Mode::shifted;
       }
       if (base_ + 2 * L <= row_length_ && xsimd::all(second_from_base < F(static_cast<float>(2 * L)))) {
-        first_ = prepare_two_register_permute<Arch>(xsimd::to_int(from_base));
-        second_ = prepare_two_register_permute<Arch>(xsimd::to_int(second_from_base));
+        first_spanning_ = prepare_two_register_permute<Arch>(xsimd::to_int(from_base));
+        second_spanning_ = prepare_two_register_permute<Arch>(xsimd::to_int(second_from_base));
         return Mode::spanning;
       }
     }
-    first_.index = xsimd::to_int(first);
-    second_.index = xsimd::to_int(second);
+    first_ = xsimd::to_int(first);
+    second_ = xsimd::to_int(second);
     return Mode::gather;
   }
 
@@ -165,27 +173,29 @@ class ColumnFetch {
         return;
       }
       if constexpr (M == Mode::shifted) {
-        at_first = permute<Arch>(F::load_unaligned(row + base_), first_.index);
-        at_second = permute<Arch>(F::load_unaligned(row + base_ + 1), second_.index);
+        at_first = permute<Arch>(F::load_unaligned(row + base_), first_shifted_);
+        at_second = permute<Arch>(F::load_unaligned(row + base_ + 1), second_shifted_);
         return;
       }
       if constexpr (M == Mode::spanning) {
         const F low = F::load_unaligned(row + base_);
         const F high = F::load_unaligned(row + base_ + L);
-        at_first = permute_two_registers<Arch>(low, high, first_);
-        at_second = permute_two_registers<Arch>(low, high, second_);
+        at_first = permute_two_registers<Arch>(low, high, first_spanning_);
+        at_second = permute_two_registers<Arch>(low, high, second_spanning_);
         return;
       }
     }
-    at_first = gather<Arch>(row, first_.index);
-    at_second = gather<Arch>(row, second_.index);
+    at_first = gather<Arch>(row, first_);
+    at_second = gather<Arch>(row, second_);
   }
 
   Mode mode_ = Mode::gather;
   int row_length_;
   int base_ = 0;
-  // The lane indices of each set (from `base` when permuted, absolute when gathered).
-  TwoRegisterIndex<Arch> first_{}, second_{};
+  // The lane indices of each set: absolute (gather), or from `base` as the permutes take them.
+  I first_{}, second_{};
+  PermuteIndex<Arch> first_shifted_{}, second_shifted_{};
+  TwoRegisterIndex<Arch> first_spanning_{}, second_spanning_{};
 };
 
 }  // namespace

@@ -51,9 +51,10 @@ F vmadd(const F& a, const F& b, const F& c) {
   }
 }
 
-// floor, min and max with one defined answer on every family: x86's roundps and minps/maxps
-// (min(a, b) = a < b ? a : b, so b on equal values and when either is NaN), which xsimd 8.1
-// calls on these widths.
+// floor, min, max and rounding to an integer with one defined answer on every family: x86's
+// roundps, minps/maxps (min(a, b) = a < b ? a : b, so b on equal values and when either is NaN;
+// max likewise) and cvtps2dq (to nearest, ties to even, in the default rounding mode), which
+// xsimd 8.1 calls on these widths.
 template <class F>
 F vfloor(const F& x) {
   return xsimd::floor(x);
@@ -65,6 +66,15 @@ F vmin(const F& a, const F& b) {
 template <class F>
 F vmax(const F& a, const F& b) {
   return xsimd::max(a, b);
+}
+// Correctly rounded division (divps on every width).
+template <class F>
+F vdiv(const F& a, const F& b) {
+  return a / b;
+}
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> round_to_int(const xsimd::batch<float, Arch>& x) {
+  return xsimd::nearbyint_as_int(x);
 }
 
 // base[index] per lane. xsimd 8.1's batch::gather is a scalar loop, so use the hardware gather
@@ -140,9 +150,17 @@ float first_lane(const xsimd::batch<float, Arch>& v) {
   }
 }
 
+// A one-register permute in two steps: prepare once per index vector (x86: the index itself),
+// then apply to any number of registers.
+template <class Arch>
+using PermuteIndex = xsimd::batch<std::int32_t, Arch>;
+template <class Arch>
+PermuteIndex<Arch> prepare_permute(const xsimd::batch<std::int32_t, Arch>& index) {
+  return index;
+}
 template <class Arch>
 xsimd::batch<float, Arch> permute([[maybe_unused]] const xsimd::batch<float, Arch>& v,
-                                  [[maybe_unused]] const xsimd::batch<std::int32_t, Arch>& index) {
+                                  [[maybe_unused]] const PermuteIndex<Arch>& index) {
   static_assert(kHasPermute<Arch>, "permute() needs AVX2 or AVX-512");
 #if defined(__AVX512F__)
   if constexpr (sizeof(v) == 64) return _mm512_permutexvar_ps(index, v);

@@ -12,10 +12,11 @@
 namespace reproject {
 namespace {
 
-const char* const kArchNames[kArchCount] = {"scalar", "sse", "avx2", "avx512"};
+const char* const kArchNames[kArchCount] = {"scalar", "sse", "avx2", "avx512", "neon"};
 
 Arch best_supported() {
-  for (Arch arch : {Arch::avx512, Arch::avx2, Arch::sse}) {
+  // Best first; a processor family compiles the sets of its own only.
+  for (Arch arch : {Arch::avx512, Arch::avx2, Arch::sse, Arch::neon}) {
     if (arch_supported(arch)) return arch;
   }
   return Arch::scalar;
@@ -29,7 +30,7 @@ Arch choose() {
   if (forced != nullptr && *forced != '\0') {  // set and not empty (empty: as if unset)
     Arch arch;
     if (!parse_arch(forced, &arch)) {
-      std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH='%s' is not one of scalar, sse, avx2, avx512; using %s\n",
+      std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH='%s' is not one of scalar, sse, avx2, avx512, neon; using %s\n",
                    forced, to_string(best));
     } else if (!arch_supported(arch)) {
       std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH=%s is not supported by this CPU; using %s\n", forced,

@@ -18,7 +18,8 @@ using namespace reproject;
 // Values of the C constants are the C++ enumerators': checked here so that neither side drifts.
 static_assert(REPROJECT_INVALID_OPTION == static_cast<int>(StatusCode::invalid_option), "status codes");
 static_assert(REPROJECT_METHOD_EXACT == static_cast<int>(Method::exact), "methods");
-static_assert(REPROJECT_ARCH_AVX512 == static_cast<int>(Arch::avx512), "arches");
+static_assert(REPROJECT_ARCH_AVX512 == static_cast<int>(Arch::avx512) && REPROJECT_ARCH_NEON == static_cast<int>(Arch::neon) &&
+                  kArchCount == 5, "arches");
 static_assert(REPROJECT_PIXEL_CLIPPED == static_cast<int>(PixelStatus::clipped), "pixel statuses");
 static_assert(REPROJECT_FILL_NONE == static_cast<int>(HoleFill::none), "hole fills");
 static_assert(REPROJECT_EDGE_MIRROR == static_cast<int>(EdgeMode::mirror), "edge modes");

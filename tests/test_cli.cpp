@@ -1325,7 +1325,7 @@ TEST(CliErrors, StrictNumbersAndForcedArch) {
   expect_error("compare --scene edge --threads 0x1", 2, "--threads: '0x1' is not a thread count in 1..256");
   const CliRun r = run(frame + " --convergence 3.5", "REPROJECT_FORCE_ARCH=frob ");
   EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("REPROJECT_FORCE_ARCH: unknown instruction set 'frob' (scalar, sse, avx2, avx512)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("REPROJECT_FORCE_ARCH: unknown instruction set 'frob' (scalar, sse, avx2, avx512, neon)"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("x.png")));
   EXPECT_EQ(run("warp --color room/centre.png --depth room/centre_depth.pfm --encoding standard --near +1 --far 2e1 "
                 "--convergence 3.5e0 --out x.png").code, 0);

@@ -18,7 +18,7 @@ int main() {
   if (!reproject::parse_arch(forced, &wanted)) {
     // An unknown name: the best supported set (ctest also requires the library's stderr line).
     for (reproject::Arch best : {reproject::Arch::avx512, reproject::Arch::avx2, reproject::Arch::sse,
-                                 reproject::Arch::scalar}) {
+                                 reproject::Arch::neon, reproject::Arch::scalar}) {
       if (!reproject::arch_supported(best)) continue;
       if (got != best) return 1;
       std::printf("unknown name '%s': selected the best supported set, %s\n", forced, reproject::to_string(got));

@@ -64,6 +64,7 @@ typedef int32_t reproject_status;
 #define REPROJECT_ARCH_SSE 1
 #define REPROJECT_ARCH_AVX2 2
 #define REPROJECT_ARCH_AVX512 3
+#define REPROJECT_ARCH_NEON 4 /* AArch64 */
 
 /* Per-pixel status bytes (C++ PixelStatus). */
 #define REPROJECT_PIXEL_HIT 0

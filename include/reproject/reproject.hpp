@@ -25,17 +25,21 @@ constexpr int kMethodCount = 5;
 const char* to_string(Method method) noexcept;
 bool parse_method(const char* name, Method* out) noexcept;
 
-// Instruction sets the kernels are compiled for. Every SIMD kernel is bit-identical to its scalar
-// reference with the same FMA policy: scalar, avx2 and avx512 fuse multiply-adds; sse (no FMA
-// instructions) does not, and matches the scalar reference built without fusing.
-enum class Arch : std::uint8_t { scalar, sse, avx2, avx512 };
-constexpr int kArchCount = 4;
+// Instruction sets the kernels can be compiled for: the x86 ones on x86-64 (sse = SSE4.1,
+// avx2 = AVX2 + FMA + F16C, avx512 = AVX-512 F/CD/DQ/BW), neon (Advanced SIMD) on AArch64, and
+// the scalar references everywhere. Every SIMD kernel is bit-identical to its scalar reference
+// with the same FMA policy: scalar, avx2, avx512 and neon fuse multiply-adds and so give the same
+// bits as each other on every processor; sse (no FMA instructions) does not, and matches the
+// scalar reference built without fusing.
+enum class Arch : std::uint8_t { scalar, sse, avx2, avx512, neon };
+constexpr int kArchCount = 5;
 const char* to_string(Arch arch) noexcept;
-bool parse_arch(const char* name, Arch* out) noexcept;  // "scalar", "sse", "avx2", "avx512"
-// Compiled in, and supported by this CPU and operating system (CPUID and XGETBV).
+bool parse_arch(const char* name, Arch* out) noexcept;  // "scalar", "sse", "avx2", "avx512", "neon"
+// Compiled in (for the target processor: x86 sets on x86-64, neon on AArch64; none with the CMake
+// option REPROJECT_SIMD=OFF), and supported by this CPU and operating system.
 bool arch_supported(Arch arch) noexcept;
 // The instruction set calls use when Options::arch is unset: the best supported, chosen once, or
-// the one named by the environment variable REPROJECT_FORCE_ARCH (scalar|sse|avx2|avx512) when
+// the one named by the environment variable REPROJECT_FORCE_ARCH (scalar|sse|avx2|avx512|neon) when
 // it is supported. A forced name that is unknown or not supported here selects the best supported
 // set, and the first call says so in one line on stderr.
 Arch selected_arch() noexcept;

@@ -2,6 +2,7 @@
 # queries: the same numbers and names as the C++ API.
 import inspect
 import os
+import platform
 import re
 import subprocess
 import sys
@@ -102,13 +103,20 @@ def test_keyword_forms_agree():
 def test_arch_queries():
     assert reproject.arch_supported("scalar")
     assert reproject.arch_supported(reproject.selected_arch())
-    with pytest.raises(ValueError, match="unknown arch 'neon'"):
-        reproject.arch_supported("neon")
+    with pytest.raises(ValueError, match="unknown arch 'altivec'"):
+        reproject.arch_supported("altivec")
+    # One processor family's sets at a time: the x86 sets on x86-64, neon on AArch64.
+    machine = platform.machine().lower()
+    if machine in ("x86_64", "amd64"):
+        assert not reproject.arch_supported("neon")
+    elif machine in ("aarch64", "arm64"):
+        assert reproject.arch_supported("neon")
+        assert not any(reproject.arch_supported(a) for a in ("sse", "avx2", "avx512"))
     code = "import reproject; print(reproject.selected_arch())"
     env = dict(os.environ, REPROJECT_FORCE_ARCH="scalar")
     assert subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True).stdout.strip() == "scalar"
     s = reproject.scene("pole", 64, 32)
-    unsupported = [a for a in ("sse", "avx2", "avx512") if not reproject.arch_supported(a)]
+    unsupported = [a for a in ("sse", "avx2", "avx512", "neon") if not reproject.arch_supported(a)]
     for arch in unsupported:
         with pytest.raises(ValueError, match=arch):
             reproject.warp(s.color, s.depth, decoder=s.decoder, convergence=3.5, arch=arch)

@@ -294,7 +294,7 @@ int run_compare(int argc, char** argv) {
       {"methods", "LIST", "comma-separated methods [scanline,march16,single,secant,exact]"},
       {"threads", "LIST", "comma-separated thread counts to time [1,2]"},
       {"repeats", "N", "timed runs per measurement, the median is reported, 1..1000 [5]"},
-      {"arch", "NAME", "instruction set measured: scalar, sse, avx2, avx512 [the best supported]"},
+      {"arch", "NAME", "instruction set measured: scalar, or sse, avx2, avx512 (x86-64), neon (AArch64) [the best supported]"},
       {"json", "FILE", "also write the table as JSON records"},
       {"images", "DIR", "write each method's output, error heat map, status and anaglyph, and methods.png"},
   });

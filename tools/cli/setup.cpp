@@ -58,7 +58,7 @@ std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool wi
   if (with_threads_arch) {
     specs.insert(specs.end(), {
         {"threads", "N", "threads, 0 = one per hardware thread [0]"},
-        {"arch", "NAME", "instruction set: scalar, sse, avx2 or avx512 [the best supported]"},
+        {"arch", "NAME", "instruction set: scalar, or sse, avx2, avx512 (x86-64), neon (AArch64) [the best supported]"},
     });
   }
   return specs;
@@ -189,11 +189,20 @@ void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius) {
   *depth = std::move(dilated);
 }
 
+namespace {
+// "scalar, sse, avx2, avx512, neon": every instruction set the library names.
+std::string arch_names() {
+  std::string names;
+  for (int i = 0; i < kArchCount; ++i) names += std::string(i ? ", " : "") + to_string(static_cast<Arch>(i));
+  return names;
+}
+}  // namespace
+
 void check_forced_arch() {
   const char* forced = std::getenv("REPROJECT_FORCE_ARCH");
   Arch arch = Arch::scalar;
   if (forced != nullptr && *forced != '\0' && !parse_arch(forced, &arch)) {
-    fail(kExitUsage, std::string("REPROJECT_FORCE_ARCH: unknown instruction set '") + forced + "' (scalar, sse, avx2, avx512)");
+    fail(kExitUsage, std::string("REPROJECT_FORCE_ARCH: unknown instruction set '") + forced + "' (" + arch_names() + ")");
   }
 }
 
@@ -201,10 +210,11 @@ Arch arch_from_flags(const Flags& flags) {
   if (!flags.has("arch")) return selected_arch();
   const std::string name = flags.text("arch");
   Arch arch = Arch::scalar;
-  if (!parse_arch(name.c_str(), &arch)) flags.bad_value("arch", "unknown instruction set '" + name + "' (scalar, sse, avx2, avx512)");
+  if (!parse_arch(name.c_str(), &arch)) flags.bad_value("arch", "unknown instruction set '" + name + "' (" + arch_names() + ")");
   if (!arch_supported(arch)) {
     std::string supported;
-    for (Arch a : {Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512}) {
+    for (int i = 0; i < kArchCount; ++i) {
+      const Arch a = static_cast<Arch>(i);
       if (arch_supported(a)) supported += std::string(supported.empty() ? "" : ", ") + to_string(a);
     }
     flags.bad_value("arch", name + " is not supported by this CPU (supported: " + supported + ")");

@@ -1,0 +1,88 @@
+# The kernels' instruction sets, chosen from the processor the compiler targets (included by the
+# top-level CMakeLists.txt after the `reproject` target exists).
+#
+# One translation unit per instruction set (kernels/arch_<set>.cpp), with that set's flags on that
+# file only; the API, the dispatch and the scalar references are built with the baseline flags.
+# Each is an object library of its own so that tests/check_object_code.cmake can read its object
+# code. CMake defines REPROJECT_HAVE_<SET> on the library for each set compiled
+# (kernels/dispatch.cpp), and the family's CPU detection (kernels/cpu_<family>.cpp).
+#
+# The family comes from the compiler's own predefined macros rather than CMAKE_SYSTEM_PROCESSOR,
+# which is spelled aarch64 (Linux, Android), arm64 (Apple) or ARM64 (Windows), x86_64, AMD64 or
+# amd64, and which a user's toolchain may leave at the host's value. No -m flag reaches a compiler
+# for another processor.
+include(CheckCXXSymbolExists)
+check_cxx_symbol_exists(__x86_64__ "" REPROJECT_TARGET_X86_64)
+if(NOT REPROJECT_TARGET_X86_64)
+  check_cxx_symbol_exists(_M_X64 "" REPROJECT_TARGET_X86_64_MSVC)
+endif()
+check_cxx_symbol_exists(__aarch64__ "" REPROJECT_TARGET_AARCH64)
+if(NOT REPROJECT_TARGET_AARCH64)
+  check_cxx_symbol_exists(_M_ARM64 "" REPROJECT_TARGET_AARCH64_MSVC)
+endif()
+
+set(REPROJECT_SIMD_SETS "")
+if(NOT REPROJECT_SIMD)
+  set(REPROJECT_CPU_FAMILY generic)
+  message(STATUS "reproject kernels: scalar references only (REPROJECT_SIMD=OFF)")
+elseif(REPROJECT_TARGET_X86_64 OR REPROJECT_TARGET_X86_64_MSVC)
+  set(REPROJECT_CPU_FAMILY x86)
+  set(REPROJECT_SIMD_SETS sse avx2 avx512)
+elseif(REPROJECT_TARGET_AARCH64 OR REPROJECT_TARGET_AARCH64_MSVC)
+  set(REPROJECT_CPU_FAMILY arm)
+  set(REPROJECT_SIMD_SETS neon)
+else()
+  set(REPROJECT_CPU_FAMILY generic)
+  message(STATUS "reproject kernels: no SIMD code for this processor (${CMAKE_SYSTEM_PROCESSOR}); scalar references only")
+endif()
+if(REPROJECT_SIMD_SETS)
+  message(STATUS "reproject kernels: scalar references + ${REPROJECT_SIMD_SETS}")
+endif()
+target_sources(reproject PRIVATE ${PROJECT_SOURCE_DIR}/kernels/cpu_${REPROJECT_CPU_FAMILY}.cpp)
+
+# Flags per set (GCC and Clang; MSVC would need /arch:AVX2 and /arch:AVX512 per file, and has no
+# SSE4.1-only switch). NEON needs none: every AArch64 processor has Advanced SIMD.
+set(REPROJECT_FLAGS_sse -msse4.1)
+set(REPROJECT_FLAGS_avx2 -mavx2 -mfma -mf16c)
+set(REPROJECT_FLAGS_avx512 -mavx512f -mavx512cd -mavx512dq -mavx512bw -mavx2 -mfma -mf16c)
+set(REPROJECT_FLAGS_neon "")
+get_target_property(REPROJECT_XSIMD_INCLUDE xsimd INTERFACE_INCLUDE_DIRECTORIES)
+foreach(set IN LISTS REPROJECT_SIMD_SETS)
+  add_library(reproject_simd_${set} OBJECT kernels/arch_${set}.cpp)
+  target_include_directories(reproject_simd_${set} PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR})
+  target_include_directories(reproject_simd_${set} SYSTEM PRIVATE ${REPROJECT_XSIMD_INCLUDE})
+  target_link_libraries(reproject_simd_${set} PRIVATE reproject_flags)
+  set_target_properties(reproject_simd_${set} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    target_compile_options(reproject_simd_${set} PRIVATE ${REPROJECT_FLAGS_${set}})
+  endif()
+  target_sources(reproject PRIVATE $<TARGET_OBJECTS:reproject_simd_${set}>)
+  string(TOUPPER ${set} _reproject_set)
+  target_compile_definitions(reproject PRIVATE REPROJECT_HAVE_${_reproject_set}=1)
+endforeach()
+if(TARGET reproject_simd_avx512 AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  # GCC 12 reports its own avx512fintrin.h mask helpers as maybe-uninitialized when inlined
+  # through xsimd; a false positive inside the compiler's header.
+  target_compile_options(reproject_simd_avx512 PRIVATE -Wno-maybe-uninitialized -Wno-uninitialized)
+endif()
+
+# x86 only: the scalar references once more, with AVX2 + FMA flags, into namespace detail::host
+# (kernels/kernel_table.hpp). Arch::scalar runs this copy on CPUs that have them, so that the
+# benchmarks' scalar baseline is what a user's own scalar code built with -march=native would be,
+# not one that calls libm for every fma and floor. Auto-vectorisation is left as -O3 does it.
+# (On AArch64 the baseline already has fmadd and frintm: one copy serves.)
+set(REPROJECT_SCALAR_SOURCES kernels/decode.cpp kernels/resolve.cpp kernels/scanline.cpp kernels/march16.cpp
+    kernels/single.cpp kernels/secant.cpp kernels/exact.cpp kernels/scalar_table.cpp)
+if(REPROJECT_CPU_FAMILY STREQUAL "x86" AND CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+  add_library(reproject_scalar_host OBJECT ${REPROJECT_SCALAR_SOURCES})
+  target_compile_definitions(reproject_scalar_host PRIVATE REPROJECT_SCALAR_COPY=host)
+  target_compile_options(reproject_scalar_host PRIVATE -mavx2 -mfma)
+  target_include_directories(reproject_scalar_host PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR})
+  target_link_libraries(reproject_scalar_host PRIVATE reproject_flags)
+  set_target_properties(reproject_scalar_host PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  target_sources(reproject PRIVATE $<TARGET_OBJECTS:reproject_scalar_host>)
+  target_compile_definitions(reproject PRIVATE REPROJECT_HAVE_SCALAR_HOST=1)
+  # The AVX2 and AVX-512 tables call scalar pieces too (tails, secant's tile plan): the host copy.
+  target_compile_definitions(reproject_simd_avx2 PRIVATE REPROJECT_SCALAR_COPY=host)
+  target_compile_definitions(reproject_simd_avx512 PRIVATE REPROJECT_SCALAR_COPY=host)
+endif()

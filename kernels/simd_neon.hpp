@@ -1,0 +1,209 @@
+// Internal: the AArch64 family of the arch layer (docs/ARCHITECTURE.md, "The arch layer"): the
+// same names as kernels/simd_x86.hpp, for Advanced SIMD (xsimd's neon64, 4 float lanes), which
+// every AArch64 processor has. Each function gives the bits its x86 twin gives for the same
+// inputs, so the neon table equals the scalar reference and the AVX2 and AVX-512 tables.
+//
+// Where xsimd 8.1 would be wrong or slow here, the intrinsic is named:
+//  * floor: neon64 has no floor kernel in xsimd 8.1, and the generic one (convert to integer and
+//    back) turns -0 into +0 where x86's roundps keeps -0: vrndmq_f32 keeps it.
+//  * min/max: vminq_f32/vmaxq_f32 return NaN if either operand is NaN and order -0 below +0;
+//    x86's minps(a, b) is a < b ? a : b (b on ties and NaN): written so, with a compare and a
+//    bit select.
+//  * rounding to an integer: xsimd 8.1's nearbyint_as_int is a scalar lroundf loop on neon64
+//    (ties away from zero); vcvtnq_s32_f32 rounds ties to even, as cvtps2dq.
+//  * gathers: NEON has none. Four scalar loads into the lanes (memcpy: rows of 32-bit pixels may
+//    start at any byte address) replace it. The column fetch (kernels/simd.hpp) only gathers when
+//    a vector's columns spread over more than 8 floats; within that range it uses the table
+//    look-ups below (vqtbl1q_u8 / vqtbl2q_u8) instead, as x86 uses its permutes.
+//  * division: xsimd 8.1's is a reciprocal estimate and two Newton steps; vdivq_f32 is IEEE.
+//  * FMA: vfmaq_f32 (one rounding), as the fused policy requires.
+// GCC and Clang (arm_neon.h); MSVC's ARM64 arm_neon.h has the same intrinsics.
+#pragma once
+
+#include <arm_neon.h>
+
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <xsimd/xsimd.hpp>
+
+#include "kernels/codes.hpp"
+#include "kernels/fma.hpp"
+
+namespace reproject {
+namespace detail {
+namespace {  // one copy per arch TU (kernels/fma.hpp)
+
+template <class Fma, class F>
+F vmadd(const F& a, const F& b, const F& c) {
+  if constexpr (std::is_same<Fma, Fused>::value) {
+    return vfmaq_f32(c, a, b);  // c + a b, one rounding
+  } else {
+    return a * b + c;
+  }
+}
+
+template <class F>
+F vfloor(const F& x) {
+  return vrndmq_f32(x);
+}
+template <class F>
+F vmin(const F& a, const F& b) {
+  return vbslq_f32(vcltq_f32(a, b), a, b);  // a < b ? a : b
+}
+template <class F>
+F vmax(const F& a, const F& b) {
+  return vbslq_f32(vcgtq_f32(a, b), a, b);  // a > b ? a : b
+}
+// Correctly rounded division: xsimd 8.1's float division on neon64 is a reciprocal estimate
+// refined by two Newton steps (not correctly rounded); vdivq_f32 is IEEE division.
+template <class F>
+F vdiv(const F& a, const F& b) {
+  return vdivq_f32(a, b);
+}
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> round_to_int(const xsimd::batch<float, Arch>& x) {
+  return vcvtnq_s32_f32(x);
+}
+
+// base[index] per lane: four loads (see the top of this file).
+template <class Arch>
+xsimd::batch<float, Arch> gather(const float* base, const xsimd::batch<std::int32_t, Arch>& index) {
+  alignas(16) std::int32_t at[4];
+  alignas(16) float value[4];
+  index.store_aligned(at);
+  for (int i = 0; i < 4; ++i) std::memcpy(&value[i], base + at[i], sizeof(float));
+  return xsimd::batch<float, Arch>::load_aligned(value);
+}
+
+// Horizontal minimum (Max false) or maximum (Max true). Used on column numbers and on decoded
+// keys, which hold no NaN; which zero comes out of +0 and -0 does not matter to any caller
+// (set_near_key makes the frame's nearest key +0).
+template <class Arch, bool Max>
+float lane_extreme(const xsimd::batch<float, Arch>& v) {
+  return Max ? vmaxvq_f32(v) : vminvq_f32(v);
+}
+
+// Permutes across lanes with the byte table look-up: lane i takes v[index[i]], index < 4 (one
+// register) or < 8 (two). Prepared once per index vector as byte indices 4 index + 0..3.
+template <class Arch>
+constexpr bool kHasPermute = true;
+
+template <class Arch>
+float first_lane(const xsimd::batch<float, Arch>& v) {
+  return vgetq_lane_f32(v, 0);
+}
+
+inline uint8x16_t byte_indices(const xsimd::batch<std::int32_t, xsimd::neon64>& index) {
+  const uint32x4_t first_byte = vshlq_n_u32(vreinterpretq_u32_s32(index), 2);     // 4 index
+  const uint32x4_t in_each_byte = vmulq_n_u32(first_byte, 0x01010101u);           // ... in all four bytes
+  return vreinterpretq_u8_u32(vaddq_u32(in_each_byte, vdupq_n_u32(0x03020100u)));  // + 0, 1, 2, 3
+}
+
+template <class Arch>
+struct PermuteIndex {
+  uint8x16_t bytes;
+};
+template <class Arch>
+PermuteIndex<Arch> prepare_permute(const xsimd::batch<std::int32_t, Arch>& index) {
+  return PermuteIndex<Arch>{byte_indices(index)};
+}
+template <class Arch>
+xsimd::batch<float, Arch> permute(const xsimd::batch<float, Arch>& v, const PermuteIndex<Arch>& index) {
+  return vreinterpretq_f32_u8(vqtbl1q_u8(vreinterpretq_u8_f32(v), index.bytes));
+}
+
+template <class Arch>
+struct TwoRegisterIndex {
+  uint8x16_t bytes;
+};
+template <class Arch>
+TwoRegisterIndex<Arch> prepare_two_register_permute(const xsimd::batch<std::int32_t, Arch>& index) {
+  return TwoRegisterIndex<Arch>{byte_indices(index)};
+}
+template <class Arch>
+xsimd::batch<float, Arch> permute_two_registers(const xsimd::batch<float, Arch>& low, const xsimd::batch<float, Arch>& high,
+                                                const TwoRegisterIndex<Arch>& index) {
+  uint8x16x2_t table;
+  table.val[0] = vreinterpretq_u8_f32(low);
+  table.val[1] = vreinterpretq_u8_f32(high);
+  return vreinterpretq_f32_u8(vqtbl2q_u8(table, index.bytes));
+}
+
+// Stores the first `count` lanes of `value` (count >= 0) and leaves the memory after them as it
+// was: NEON has no masked store, so the vector is merged with what is there (the caller's buffer
+// holds a whole vector at `out`, as on SSE4.1).
+template <class Arch>
+void store_first_lanes(const xsimd::batch<float, Arch>& value, float* out, int count) {
+  using F = xsimd::batch<float, Arch>;
+  if (count >= 4) return value.store_unaligned(out);
+  alignas(16) static const float lanes[4] = {0, 1, 2, 3};
+  xsimd::select(F::load_aligned(lanes) < F(static_cast<float>(count)), value, F::load_unaligned(out)).store_unaligned(out);
+}
+
+// Stores small non-negative integral floats (the PixelStatus values) as bytes.
+template <class Arch>
+void store_bytes(const xsimd::batch<float, Arch>& value, std::uint8_t* out) {
+  const uint16x4_t halves = vmovn_u32(vcvtq_u32_f32(value));
+  const uint8x8_t bytes = vmovn_u16(vcombine_u16(halves, halves));
+  const std::uint32_t four = vget_lane_u32(vreinterpret_u32_u8(bytes), 0);
+  std::memcpy(out, &four, 4);
+}
+
+// 4 consecutive 16-bit codes, zero-extended.
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> load_u16(const std::uint8_t* p) {
+  std::uint64_t codes;
+  std::memcpy(&codes, p, 8);
+  return vreinterpretq_s32_u32(vmovl_u16(vcreate_u16(codes)));
+}
+
+// Stores 4 16-bit codes (each <= 65535); with `masked`, only the lanes in `write`.
+template <class Arch>
+void store_u16(const xsimd::batch<std::int32_t, Arch>& codes, const xsimd::batch_bool<float, Arch>& write, bool masked,
+               std::uint8_t* out) {
+  uint16x4_t packed = vmovn_u32(vreinterpretq_u32_s32(codes));
+  if (masked) {
+    std::uint64_t before;
+    std::memcpy(&before, out, 8);
+    packed = vbsl_u16(vmovn_u32(static_cast<uint32x4_t>(write)), packed, vcreate_u16(before));
+  }
+  const std::uint64_t after = vget_lane_u64(vreinterpret_u64_u16(packed), 0);
+  std::memcpy(out, &after, 8);
+}
+
+// ---- one RGBA pixel per 128-bit register (float RGBA and rgba16f colour) ----
+
+using Pixel4 = float32x4_t;
+
+inline Pixel4 pixel4_splat(float value) { return vdupq_n_f32(value); }
+inline Pixel4 pixel4_zero() { return vdupq_n_f32(0.0f); }
+inline Pixel4 load_float4(const std::uint8_t* p) { return vld1q_f32(reinterpret_cast<const float*>(p)); }
+inline void store_float4(std::uint8_t* p, Pixel4 v) { vst1q_f32(reinterpret_cast<float*>(p), v); }
+
+// c0 + frac (c1 - c0) per channel with the table's FMA policy.
+template <class Fma>
+Pixel4 lerp4(Pixel4 frac, Pixel4 c0, Pixel4 c1) {
+  if constexpr (std::is_same<Fma, Fused>::value) {
+    return vfmaq_f32(c0, frac, vsubq_f32(c1, c0));
+  } else {
+    return vaddq_f32(vmulq_f32(frac, vsubq_f32(c1, c0)), c0);
+  }
+}
+
+// Four halves to floats and back, with the ARMv8 conversions (FCVTL/FCVTN: exact widening;
+// narrowing rounded to nearest even in the default FPCR mode, NaNs made quiet with their top
+// payload bits, overflow to infinity), which give the bits of F16C and of the scalar conversions.
+inline Pixel4 load_half4(const std::uint8_t* p) {
+  std::uint64_t halves;
+  std::memcpy(&halves, p, 8);
+  return vcvt_f32_f16(vreinterpret_f16_u64(vcreate_u64(halves)));
+}
+inline void store_half4(std::uint8_t* p, Pixel4 value) {
+  const std::uint64_t halves = vget_lane_u64(vreinterpret_u64_f16(vcvt_f16_f32(value)), 0);
+  std::memcpy(p, &halves, 8);
+}
+
+}  // namespace
+}  // namespace detail
+}  // namespace reproject
