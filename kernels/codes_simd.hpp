@@ -14,15 +14,6 @@ namespace {  // one copy per arch TU (kernels/fma.hpp)
 template <class Arch>
 using IntLanes = typename Lanes<Arch>::I;
 
-template <class Arch>
-IntLanes<Arch> bits_of(const xsimd::batch<float, Arch>& v) {
-  return xsimd::bitwise_cast<IntLanes<Arch>>(v);
-}
-template <class Arch>
-xsimd::batch<float, Arch> float_bits(const IntLanes<Arch>& v) {
-  return xsimd::bitwise_cast<xsimd::batch<float, Arch>>(v);
-}
-
 // Twins of round_even and clamp_code.
 template <class Arch>
 xsimd::batch<float, Arch> round_even_v(const xsimd::batch<float, Arch>& x) {

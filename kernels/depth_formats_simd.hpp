@@ -30,7 +30,7 @@ void with_depth_format(DepthFormat format, const Body& body) {
 
 // The stored values d of L depth words of a 32-bit integer format (scalar twin: depth_value).
 template <class Arch, class Fma, DepthFormat Format>
-xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<Arch>& word) {
+REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> depth_values_of_words(const Frame& f, const IntLanes<Arch>& word) {
   using F = typename Lanes<Arch>::F;
   using I = IntLanes<Arch>;
   static_assert(Format != DepthFormat::float32 && Format != DepthFormat::unorm16, "32-bit integer words only");

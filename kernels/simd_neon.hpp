@@ -16,6 +16,8 @@
 //    a vector's columns spread over more than 8 floats; within that range it uses the table
 //    look-ups below (vqtbl1q_u8 / vqtbl2q_u8) instead, as x86 uses its permutes.
 //  * division: xsimd 8.1's is a reciprocal estimate and two Newton steps; vdivq_f32 is IEEE.
+//  * bit casts: xsimd 8.1's bitwise_cast goes through wrapper functions that GCC calls out of
+//    line in the row loops; vreinterpretq is free.
 //  * FMA: vfmaq_f32 (one rounding), as the fused policy requires.
 // GCC and Clang (arm_neon.h); MSVC's ARM64 arm_neon.h has the same intrinsics.
 #pragma once
@@ -55,6 +57,16 @@ template <class F>
 F vmax(const F& a, const F& b) {
   return vbslq_f32(vcgtq_f32(a, b), a, b);  // a > b ? a : b
 }
+// A float's bits as an integer lane and back (xsimd 8.1's bitwise_cast is not inlined here).
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> bits_of(const xsimd::batch<float, Arch>& v) {
+  return vreinterpretq_s32_f32(v);
+}
+template <class Arch>
+xsimd::batch<float, Arch> float_bits(const xsimd::batch<std::int32_t, Arch>& v) {
+  return vreinterpretq_f32_s32(v);
+}
+
 // Correctly rounded division: xsimd 8.1's float division on neon64 is a reciprocal estimate
 // refined by two Newton steps (not correctly rounded); vdivq_f32 is IEEE division.
 template <class F>

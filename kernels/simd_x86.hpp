@@ -67,6 +67,16 @@ template <class F>
 F vmax(const F& a, const F& b) {
   return xsimd::max(a, b);
 }
+// A float's bits as an integer lane and back.
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> bits_of(const xsimd::batch<float, Arch>& v) {
+  return xsimd::bitwise_cast<xsimd::batch<std::int32_t, Arch>>(v);
+}
+template <class Arch>
+xsimd::batch<float, Arch> float_bits(const xsimd::batch<std::int32_t, Arch>& v) {
+  return xsimd::bitwise_cast<xsimd::batch<float, Arch>>(v);
+}
+
 // Correctly rounded division (divps on every width).
 template <class F>
 F vdiv(const F& a, const F& b) {
