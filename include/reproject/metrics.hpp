@@ -5,8 +5,8 @@
 // use_sample_covariance=False.
 //
 // Like the rest of the library, every call validates its inputs completely, returns a Status
-// (nothing throws) and writes its result only on success. The calls allocate working rows for
-// SSIM (a few dozen rows of the width, never a whole image); PSNR allocates nothing.
+// (nothing throws) and writes its result only on success. SSIM allocates its working rows (66
+// rows of doubles of the width, never a whole image) once per call; PSNR allocates nothing.
 #pragma once
 
 #include <cstddef>
@@ -77,8 +77,8 @@ Status psnr(const ByteSamples& a, const ByteSamples& b, const QualityOptions& op
 // Mean structural similarity of `a` and `b`: the SSIM map of each channel, computed from
 // Gaussian-weighted means, variances and covariance (population, not sample) over the 11 x 11
 // window, averaged over the scored pixels whose window lies inside the image, then over the
-// channels. The images must be at least 11 x 11. 1 for equal images; NaN when a sample is NaN or
-// infinite.
+// channels. The images must be at least 11 x 11. 1 (to rounding) for equal images; NaN when a
+// sample is NaN or infinite.
 Status ssim(const FloatSamples& a, const FloatSamples& b, const QualityOptions& options, double* result) noexcept;
 Status ssim(const ByteSamples& a, const ByteSamples& b, const QualityOptions& options, double* result) noexcept;
 
