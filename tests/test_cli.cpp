@@ -28,6 +28,7 @@
 
 #include "cli.hpp"
 #include "imageio/imageio.hpp"
+#include "reproject/metrics.hpp"
 #include "scene.hpp"
 
 namespace fs = std::filesystem;
@@ -632,7 +633,8 @@ TEST(CliCompare, JsonHasEveryKey) {
   ASSERT_EQ(json.kind, Json::array);
   ASSERT_EQ(json.items.size(), 10u);
   const char* keys[] = {"method", "arch", "threads", "mpix_per_s", "speedup_vs_scalar", "time_vs_roofline",
-                        "mean_abs_dx", "max_abs_dx", "within_half_px", "status_mismatch", "psnr", "mae"};
+                        "mean_abs_dx", "max_abs_dx", "within_half_px", "status_mismatch", "psnr", "mae",
+                        "psnr_whole_frame", "ssim_whole_frame", "hole", "outside", "clipped"};
   std::map<std::string, int> per_method;
   for (const Json& record : json.items) {
     ASSERT_EQ(record.kind, Json::object);
@@ -642,7 +644,7 @@ TEST(CliCompare, JsonHasEveryKey) {
       if (std::string(key) == "method" || std::string(key) == "arch") {
         EXPECT_EQ(v.kind, Json::string) << key;
       } else {
-        EXPECT_EQ(v.kind, Json::number) << key;  // a scene has a true eye: psnr and mae too
+        EXPECT_EQ(v.kind, Json::number) << key;  // a scene has a true eye: psnr, mae, ssim too
       }
     }
     ++per_method[record.members.at("method").text];
@@ -687,7 +689,52 @@ TEST(CliCompare, FrameWithAndWithoutTruth) {
   ASSERT_EQ(none.items.size(), 1u);
   EXPECT_EQ(none.items[0].members.at("psnr").kind, Json::null);
   EXPECT_EQ(none.items[0].members.at("mae").kind, Json::null);
+  EXPECT_EQ(none.items[0].members.at("psnr_whole_frame").kind, Json::null);
+  EXPECT_EQ(none.items[0].members.at("ssim_whole_frame").kind, Json::null);
   EXPECT_GT(none.items[0].members.at("within_half_px").value, 90.0);
+}
+
+// The whole-frame scores count every pixel as the options fill it: they are the scores of warp's
+// own output (8-bit there, float in compare: a hair apart) over the whole frame, and --fill none
+// (holes left 0) lowers them while the header says so.
+TEST(CliCompare, WholeFrameScoresEveryPixelAsTheOptionsFillIt) {
+  ensure_room();
+  const std::string common = std::string("compare ") + kWarpFlags +
+                             " --methods exact --threads 1 --repeats 1 --truth room/right.png --truth-mask room/right_visible.png";
+  const CliRun filled = run(common + " --json whole.json");
+  ASSERT_EQ(filled.code, 0) << filled.err;
+  EXPECT_NE(filled.out.find("whole frame (scored too): every pixel; holes (exact: "), std::string::npos) << filled.out;
+  EXPECT_NE(filled.out.find("filled from the background side"), std::string::npos) << filled.out;
+  const CliRun empty = run(common + " --fill none --json whole-none.json");
+  ASSERT_EQ(empty.code, 0) << empty.err;
+  EXPECT_NE(empty.out.find("left 0 (--fill none)"), std::string::npos) << empty.out;
+  Json json, json_none;
+  ASSERT_TRUE(JsonReader(slurp(path("whole.json"))).read(&json));
+  ASSERT_TRUE(JsonReader(slurp(path("whole-none.json"))).read(&json_none));
+  const auto& exact = json.items.at(0).members;
+  const auto& exact_none = json_none.items.at(0).members;
+
+  ASSERT_EQ(run(std::string("warp ") + kWarpFlags + kBlendBytes + " --out whole-exact.png").code, 0);
+  const Image out = read_color("whole-exact.png"), truth = read_color("room/right.png");
+  Image everywhere(kW, kH, 1);
+  for (int y = 0; y < kH; ++y) std::fill_n(everywhere.plane_data() + y * everywhere.stride(), kW, 1.0f);
+  EXPECT_NEAR(exact.at("psnr_whole_frame").value, psnr(out, truth, everywhere), 0.2);
+  const auto samples = [](const Image& image) {
+    return reproject::FloatSamples::planar(image.plane_data(0), image.width(), image.height(), 3, image.stride(),
+                                           image.plane_data(1) - image.plane_data(0));
+  };
+  reproject::QualityOptions range255;
+  range255.data_range = 255.0;
+  double ssim = 0.0;
+  ASSERT_TRUE(reproject::ssim(samples(out), samples(truth), range255, &ssim).ok());
+  EXPECT_NEAR(exact.at("ssim_whole_frame").value, ssim, 2e-3);
+  EXPECT_LT(exact.at("psnr_whole_frame").value, exact.at("psnr").value);  // the holes and the edge cost
+  EXPECT_GT(exact.at("outside").value, 0.1);                               // the strip the source never saw
+  EXPECT_GT(exact.at("hole").value, 0.1);
+
+  EXPECT_EQ(exact_none.at("hole").value, exact.at("hole").value);
+  EXPECT_LT(exact_none.at("psnr_whole_frame").value, exact.at("psnr_whole_frame").value - 1.0);
+  EXPECT_LT(exact_none.at("ssim_whole_frame").value, exact.at("ssim_whole_frame").value - 0.005);
 }
 
 // ===================================================================================================

@@ -16,5 +16,6 @@ void bind_models(py::module_& m);  // models.cpp: Decoder, ParallaxModel, Stereo
 void bind_core(py::module_& m);    // module.cpp: warp, warp_pair, Result, arch queries
 void bind_stereo(py::module_& m);  // stereo.cpp: the helpers of stereo.hpp
 void bind_scenes(py::module_& m);  // scenes.cpp: the built-in ray-cast scenes
+void bind_metrics(py::module_ m);   // metrics.cpp: the submodule reproject.metrics (PSNR, SSIM)
 
 }  // namespace reproject::python

@@ -635,4 +635,5 @@ PYBIND11_MODULE(reproject, m) {
   reproject::python::bind_core(m);
   reproject::python::bind_stereo(m);
   reproject::python::bind_scenes(m);
+  reproject::python::bind_metrics(m.def_submodule("metrics", "Image quality: PSNR and SSIM"));
 }

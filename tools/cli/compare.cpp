@@ -14,6 +14,7 @@
 
 #include "cli.hpp"
 #include "imageio/stereo_views.hpp"
+#include "quality.hpp"
 #include "scene_setup.hpp"
 
 namespace reproject::cli {
@@ -136,39 +137,9 @@ struct Result {
   Method method = Method::exact;
   std::vector<double> ms, scalar_ms;  // per thread count: the measured arch, and Arch::scalar
   double mean_dx = 0, max_dx = 0, within_half = 0, status_mismatch = 0;
-  double psnr = NAN, mae = NAN;
+  Quality quality;                            // against the true eye, when there is one
   double hole = 0, outside = 0, clipped = 0;  // % of pixels
 };
-
-// PSNR (peak 1) and mean absolute error of `a` against `b` over the pixels with mask set, over
-// the colour channels (alpha ignored). NaN when no pixel is measured.
-void colour_error(const Image& a, const Image& b, const std::vector<std::uint8_t>& mask, double* psnr, double* mae) {
-  const int channels = std::min({a.channels(), b.channels(), 3});
-  const int w = a.width(), h = a.height();
-  double se = 0.0, ae = 0.0;
-  long n = 0;
-  for (int y = 0; y < h; ++y) {
-    const std::uint8_t* m = mask.data() + static_cast<std::size_t>(y) * w;
-    for (int c = 0; c < channels; ++c) {
-      const float* pa = a.plane_data(c) + y * a.stride();
-      const float* pb = b.plane_data(c) + y * b.stride();
-      for (int x = 0; x < w; ++x) {
-        if (!m[x]) continue;
-        const double d = static_cast<double>(pa[x]) - pb[x];
-        se += d * d;
-        ae += std::fabs(d);
-      }
-    }
-    for (int x = 0; x < w; ++x) n += m[x] != 0;
-  }
-  if (n == 0) {
-    *psnr = *mae = NAN;
-    return;
-  }
-  const double samples = static_cast<double>(n) * channels;
-  *psnr = se > 0.0 ? 10.0 * std::log10(samples / se) : INFINITY;
-  *mae = ae / samples;
-}
 
 // Agreement with exact: |x - x*| on the pixels both hit; status mismatches over all pixels.
 void agreement(const Target& out, const Target& exact, Result* r) {
@@ -507,7 +478,7 @@ int run_compare(int argc, char** argv) {
     Result r;
     r.method = m;
     agreement(outputs.back(), outputs.front(), &r);
-    if (has_truth) colour_error(outputs.back().color, truth, measured, &r.psnr, &r.mae);
+    if (has_truth) r.quality = score(outputs.back().color, truth, measured);
     results.push_back(r);
   }
 
@@ -569,6 +540,7 @@ int run_compare(int argc, char** argv) {
   if (has_truth) {
     report += fmt("visible in both views (scored): %.2f %% of the target", 100.0 * measured_count / pixels);
     report += truth_mask_from_exact ? " (exact's hit pixels)\n" : "\n";
+    report += describe_whole_frame(base, results.front().hole, results.front().outside);
   }
   report += std::string("arch ") + to_string(arch) + ", median of " + std::to_string(repeats) + " runs; roofline (stream " +
             std::to_string(channels + 1) + " planes in, " + std::to_string(channels + 1) + " + status out):";
@@ -594,11 +566,17 @@ int run_compare(int argc, char** argv) {
   }
   h1 += "    vs exact:                                  ";
   h2 += "  mean|dx|  max|dx| <=0.5px%  status!=%";
+  // With a truth: visible in both, then the statuses, then the whole frame they explain (its
+  // title above its first column, or a space after the previous title when that is longer).
   if (has_truth) {
-    h1 += "vs true eye:";
+    h1 += "vs true eye, visible in both:";
     h2 += "   PSNR dB      MAE";
   }
   h2 += "  hole% outside% clipped%";
+  if (has_truth) {
+    h1 += std::string(h1.size() < h2.size() + 3 ? h2.size() + 3 - h1.size() : 1, ' ') + "whole frame:";
+    h2 += "   PSNR dB    SSIM";
+  }
   report += h1 + "\n" + h2 + "\n";
   std::string json = "[\n";
   bool first_record = true;
@@ -609,8 +587,9 @@ int run_compare(int argc, char** argv) {
     for (int i = 0; i < nt; ++i) line += fmt("%7.2f ", r.scalar_ms[i] / r.ms[i]);
     for (int i = 0; i < nt; ++i) line += fmt("%7.2f ", r.ms[i] / roofline_ms[i]);
     line += fmt("  %8.4f", r.mean_dx) + fmt(" %8.3f", r.max_dx) + fmt(" %8.3f", r.within_half) + fmt(" %9.3f", r.status_mismatch);
-    if (has_truth) line += fmt("  %8.2f", r.psnr) + fmt(" %8.5f", r.mae);
+    if (has_truth) line += fmt("  %8.2f", r.quality.psnr) + fmt(" %8.5f", r.quality.mae);
     line += fmt("  %5.2f", r.hole) + fmt(" %7.2f", r.outside) + fmt(" %7.2f", r.clipped);
+    if (has_truth) line += fmt("  %8.2f", r.quality.psnr_frame) + fmt(" %7.4f", r.quality.ssim_frame);
     report += line + "\n";
     for (int i = 0; i < nt; ++i) {
       json += std::string(first_record ? "" : ",\n") + "  {\"method\": " + json_string(to_string(m)) +
@@ -620,7 +599,10 @@ int run_compare(int argc, char** argv) {
               ", \"time_vs_roofline\": " + json_number(r.ms[i] / roofline_ms[i]) +
               ", \"mean_abs_dx\": " + json_number(r.mean_dx) + ", \"max_abs_dx\": " + json_number(r.max_dx) +
               ", \"within_half_px\": " + json_number(r.within_half) + ", \"status_mismatch\": " + json_number(r.status_mismatch) +
-              ", \"psnr\": " + json_number(r.psnr) + ", \"mae\": " + json_number(r.mae) +
+              ", \"psnr\": " + json_number(r.quality.psnr) + ", \"mae\": " + json_number(r.quality.mae) +
+              ", \"psnr_whole_frame\": " + json_number(r.quality.psnr_frame) +
+              ", \"ssim_whole_frame\": " + json_number(r.quality.ssim_frame) + ", \"hole\": " + json_number(r.hole) +
+              ", \"outside\": " + json_number(r.outside) + ", \"clipped\": " + json_number(r.clipped) +
               ", \"ms\": " + json_number(r.ms[i]) + ", \"scalar_ms\": " + json_number(r.scalar_ms[i]) +
               ", \"roofline_ms\": " + json_number(roofline_ms[i]) + ", \"width\": " + std::to_string(w) +
               ", \"height\": " + std::to_string(h) + ", \"dilate_depth\": " + std::to_string(dilate) + "}";
@@ -629,9 +611,9 @@ int run_compare(int argc, char** argv) {
   }
   json += "\n]\n";
   if (has_truth) {
-    double psnr = 0.0, mae = 0.0;
-    colour_error(source_color, truth, measured, &psnr, &mae);
-    report += fmt("\n(no reprojection: the source view itself scores PSNR %.2f dB", psnr) + fmt(", MAE %.5f on the same pixels)\n", mae);
+    const Quality q = score(source_color, truth, measured);
+    report += fmt("\n(no reprojection: the source view itself scores PSNR %.2f dB", q.psnr) + fmt(", MAE %.5f on the same pixels", q.mae) +
+              fmt("; whole frame PSNR %.2f dB", q.psnr_frame) + fmt(", SSIM %.4f)\n", q.ssim_frame);
   }
   std::fputs(report.c_str(), stdout);
   std::fflush(stdout);
