@@ -12,8 +12,6 @@
 namespace reproject {
 namespace {
 
-const char* const kArchNames[kArchCount] = {"scalar", "sse", "avx2", "avx512", "neon"};
-
 Arch best_supported() {
   // Best first; a processor family compiles the sets of its own only.
   for (Arch arch : {Arch::avx512, Arch::avx2, Arch::sse, Arch::neon}) {
@@ -30,8 +28,13 @@ Arch choose() {
   if (forced != nullptr && *forced != '\0') {  // set and not empty (empty: as if unset)
     Arch arch;
     if (!parse_arch(forced, &arch)) {
-      std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH='%s' is not one of scalar, sse, avx2, avx512, neon; using %s\n",
-                   forced, to_string(best));
+      char names[64] = "";
+      for (int i = 0; i < kArchCount; ++i) {
+        std::strncat(names, i ? ", " : "", sizeof names - std::strlen(names) - 1);
+        std::strncat(names, to_string(static_cast<Arch>(i)), sizeof names - std::strlen(names) - 1);
+      }
+      std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH='%s' is not one of %s; using %s\n", forced, names,
+                   to_string(best));
     } else if (!arch_supported(arch)) {
       std::fprintf(stderr, "reproject: REPROJECT_FORCE_ARCH=%s is not supported by this CPU; using %s\n", forced,
                    to_string(best));
@@ -43,22 +46,6 @@ Arch choose() {
 }
 
 }  // namespace
-
-const char* to_string(Arch arch) noexcept {
-  const unsigned index = static_cast<unsigned>(arch);
-  return index < static_cast<unsigned>(kArchCount) ? kArchNames[index] : "unknown";
-}
-
-bool parse_arch(const char* name, Arch* out) noexcept {
-  if (name == nullptr) return false;
-  for (int i = 0; i < kArchCount; ++i) {
-    if (std::strcmp(name, kArchNames[i]) == 0) {
-      if (out) *out = static_cast<Arch>(i);
-      return true;
-    }
-  }
-  return false;
-}
 
 bool arch_supported(Arch arch) noexcept {
   // The CPU first: compiled_kernels() runs code of the set's own translation unit (its table's

@@ -122,38 +122,6 @@ void stored_range(DepthEncoding e, double* d_near, double* d_far) noexcept {
 
 }  // namespace
 
-const char* to_string(DepthEncoding encoding) noexcept {
-  switch (encoding) {
-    case DepthEncoding::linear:
-      return "linear";
-    case DepthEncoding::standard:
-      return "standard";
-    case DepthEncoding::gl_ndc:
-      return "gl_ndc";
-    case DepthEncoding::reversed:
-      return "reversed";
-    case DepthEncoding::reversed_infinite:
-      return "reversed_infinite";
-    case DepthEncoding::infinite:
-      return "infinite";
-    case DepthEncoding::disparity:
-      return "disparity";
-  }
-  return "unknown";
-}
-
-bool parse_encoding(const char* name, DepthEncoding* out) noexcept {
-  if (name == nullptr || out == nullptr) return false;
-  for (unsigned i = 0; i <= static_cast<unsigned>(DepthEncoding::disparity); ++i) {
-    const auto e = static_cast<DepthEncoding>(i);
-    if (std::strcmp(name, to_string(e)) == 0) {
-      *out = e;
-      return true;
-    }
-  }
-  return false;
-}
-
 DepthDecoder DepthDecoder::disparity() noexcept {
   DepthDecoder decoder;
   decoder.encoding_ = DepthEncoding::disparity;

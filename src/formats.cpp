@@ -1,43 +1,14 @@
-// The public side of reproject/formats.hpp: the formats' names and sizes, and the conversions the
+// The public side of reproject/formats.hpp: the formats' sizes, and the conversions the
 // kernels use (kernels/codes.hpp, kernels/color_formats.hpp, kernels/depth_formats.hpp), so that
 // callers and tests convert exactly as the kernels do.
 #include "reproject/formats.hpp"
 
-#include <cstring>
 #include <limits>
 
 #include "kernels/color_formats.hpp"
 #include "kernels/depth_formats.hpp"
 
 namespace reproject {
-
-namespace {
-const char* const kColorFormatNames[kColorFormatCount] = {"float32", "rgba8", "rgba8_srgb", "rgba16f"};
-const char* const kDepthFormatNames[kDepthFormatCount] = {"float32", "unorm16", "unorm24_s8", "s8_unorm24",
-                                                          "rgba8_packed_linear"};
-template <class E, int N>
-bool parse_name(const char* const (&names)[N], const char* name, E* out) {
-  if (name == nullptr) return false;
-  for (int i = 0; i < N; ++i) {
-    if (std::strcmp(name, names[i]) == 0) {
-      if (out) *out = static_cast<E>(i);
-      return true;
-    }
-  }
-  return false;
-}
-}  // namespace
-
-const char* to_string(ColorFormat format) noexcept {
-  const unsigned i = static_cast<unsigned>(format);
-  return i < static_cast<unsigned>(kColorFormatCount) ? kColorFormatNames[i] : "unknown";
-}
-const char* to_string(DepthFormat format) noexcept {
-  const unsigned i = static_cast<unsigned>(format);
-  return i < static_cast<unsigned>(kDepthFormatCount) ? kDepthFormatNames[i] : "unknown";
-}
-bool parse_color_format(const char* name, ColorFormat* out) noexcept { return parse_name(kColorFormatNames, name, out); }
-bool parse_depth_format(const char* name, DepthFormat* out) noexcept { return parse_name(kDepthFormatNames, name, out); }
 
 int bytes_per_pixel(ColorFormat format) noexcept {
   switch (format) {

@@ -49,40 +49,6 @@ bool known_direction(EyeDirection d) noexcept {
 
 }  // namespace
 
-const char* to_string(EyeDirection direction) noexcept {
-  switch (direction) {
-    case EyeDirection::left_to_right:
-      return "left-to-right";
-    case EyeDirection::right_to_left:
-      return "right-to-left";
-    case EyeDirection::centre_to_left:
-      return "centre-to-left";
-    case EyeDirection::centre_to_right:
-      return "centre-to-right";
-  }
-  return "unknown";
-}
-
-bool parse_direction(const char* name, EyeDirection* out) noexcept {
-  if (name == nullptr || out == nullptr) return false;
-  static const struct {
-    const char* name;
-    EyeDirection direction;
-  } kNames[] = {
-      {"left-to-right", EyeDirection::left_to_right},     {"left_to_right", EyeDirection::left_to_right},
-      {"right-to-left", EyeDirection::right_to_left},     {"right_to_left", EyeDirection::right_to_left},
-      {"centre-to-left", EyeDirection::centre_to_left},   {"centre_to_left", EyeDirection::centre_to_left},
-      {"centre-to-right", EyeDirection::centre_to_right}, {"centre_to_right", EyeDirection::centre_to_right},
-  };
-  for (const auto& entry : kNames) {
-    if (std::strcmp(name, entry.name) == 0) {
-      *out = entry.direction;
-      return true;
-    }
-  }
-  return false;
-}
-
 // sigma of DESIGN §4: the signed offset from the source eye to the target eye, in units of the
 // interaxial distance (+ towards the right eye).
 double eye_offset(EyeDirection direction) noexcept {

@@ -24,8 +24,6 @@ namespace {
 // Widths above this would make integer column coordinates inexact in float.
 constexpr int kMaxWidth = 1 << 22;
 
-const char* const kMethodNames[kMethodCount] = {"scanline", "march16", "single", "secant", "exact"};
-
 // The address range [begin, end) a plane's rows span.
 struct ByteRange {
   std::uintptr_t begin = 0;
@@ -482,22 +480,6 @@ Status reproject_two(const SourceView& centre, const DepthDecoder& decoder, cons
 }
 
 }  // namespace
-
-const char* to_string(Method method) noexcept {
-  const unsigned index = static_cast<unsigned>(method);
-  return index < static_cast<unsigned>(kMethodCount) ? kMethodNames[index] : "unknown";
-}
-
-bool parse_method(const char* name, Method* out) noexcept {
-  if (name == nullptr) return false;
-  for (int i = 0; i < kMethodCount; ++i) {
-    if (std::strcmp(name, kMethodNames[i]) == 0) {
-      if (out) *out = static_cast<Method>(i);
-      return true;
-    }
-  }
-  return false;
-}
 
 namespace detail {
 

@@ -5,21 +5,6 @@
 
 namespace reproject {
 
-const char* to_string(StatusCode code) noexcept {
-  switch (code) {
-    case StatusCode::ok: return "ok";
-    case StatusCode::null_pointer: return "null_pointer";
-    case StatusCode::invalid_size: return "invalid_size";
-    case StatusCode::invalid_stride: return "invalid_stride";
-    case StatusCode::size_mismatch: return "size_mismatch";
-    case StatusCode::aliasing: return "aliasing";
-    case StatusCode::invalid_decoder: return "invalid_decoder";
-    case StatusCode::invalid_model: return "invalid_model";
-    case StatusCode::invalid_option: return "invalid_option";
-  }
-  return "unknown";
-}
-
 Status::Status(StatusCode code, const char* format, ...) noexcept : code_(code) {
   va_list args;
   va_start(args, format);

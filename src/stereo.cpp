@@ -368,20 +368,6 @@ Status stereo_culling_frustum(const ViewFrustum& mono, const StereoCamera& camer
 // ---------------------------------------------------------------------------------------------
 // 3. Picking
 
-const char* to_string(PickSource source) noexcept {
-  switch (source) {
-    case PickSource::both:
-      return "both";
-    case PickSource::left:
-      return "left";
-    case PickSource::right:
-      return "right";
-    case PickSource::none:
-      return "none";
-  }
-  return "unknown";
-}
-
 namespace {
 
 enum class EyeAnswer : std::uint8_t { hit, wall, outside, clipped };

@@ -19,8 +19,10 @@ enum class DepthEncoding : std::uint8_t {
   infinite,           // 0 at near, 1 at infinity                       w = (1 - d) / n
   disparity,          // a disparity in pixels (with ParallaxModel::from_disparity)   w = d
 };
+constexpr int kDepthEncodingCount = 7;
 
-// Short stable name, e.g. "reversed_infinite"; parse_encoding accepts the same names.
+// Short stable name, e.g. "reversed_infinite"; parse_encoding accepts the same names (names and
+// parsers behave as reproject.hpp says before to_string(Method)).
 const char* to_string(DepthEncoding encoding) noexcept;
 bool parse_encoding(const char* name, DepthEncoding* out) noexcept;
 

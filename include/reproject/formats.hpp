@@ -33,7 +33,8 @@ enum class DepthFormat : std::uint8_t {
 };
 constexpr int kDepthFormatCount = 5;
 
-// Short stable names ("rgba8_srgb", "unorm24_s8", ...); the parsers accept the same names.
+// Short stable names ("rgba8_srgb", "unorm24_s8", ...); the parsers accept the same names (names
+// and parsers behave as reproject.hpp says before to_string(Method)).
 const char* to_string(ColorFormat format) noexcept;
 const char* to_string(DepthFormat format) noexcept;
 bool parse_color_format(const char* name, ColorFormat* out) noexcept;

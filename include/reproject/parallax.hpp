@@ -15,8 +15,11 @@ enum class EyeDirection : std::uint8_t {
   centre_to_left,   // sigma = -1/2
   centre_to_right,  // sigma = +1/2
 };
+constexpr int kEyeDirectionCount = 4;
+// "left-to-right", ...; parse_direction also accepts the underscore spelling ("left_to_right").
+// Names and parsers behave as reproject.hpp says before to_string(Method).
 const char* to_string(EyeDirection direction) noexcept;
-bool parse_direction(const char* name, EyeDirection* out) noexcept;  // "left-to-right", ...
+bool parse_direction(const char* name, EyeDirection* out) noexcept;
 double eye_offset(EyeDirection direction) noexcept;                   // sigma
 
 enum class Eye : std::uint8_t { left, right };

@@ -22,8 +22,12 @@ enum class Method : std::uint8_t {
   exact,     // forward sweep in occlusion-compatible order: the reference
 };
 constexpr int kMethodCount = 5;
+// Names. Every enum of the API has a short stable name (to_string; "unknown" for a value outside
+// the enum) and a parser that accepts the same names: parse_*(name, out) returns whether `name` is
+// one, and then writes the value to *out unless `out` is null (so a null `out` only checks the
+// name); a null or unknown name returns false and writes nothing.
 const char* to_string(Method method) noexcept;
-bool parse_method(const char* name, Method* out) noexcept;
+bool parse_method(const char* name, Method* out) noexcept;  // "scanline", "march16", ...
 
 // Instruction sets the kernels can be compiled for: the x86 ones on x86-64 (sse = SSE4.1,
 // avx2 = AVX2 + FMA + F16C, avx512 = AVX-512 F/CD/DQ/BW), neon (Advanced SIMD) on AArch64, and
@@ -57,6 +61,9 @@ enum class HoleFill : std::uint8_t {
   foreground,  // of its nearer endpoint
   none,        // colour and depth of hole pixels are not written
 };
+constexpr int kHoleFillCount = 3;
+const char* to_string(HoleFill fill) noexcept;
+bool parse_hole_fill(const char* name, HoleFill* out) noexcept;  // "background", "foreground", "none"
 
 enum class EdgeMode : std::uint8_t {
   clamp,   // outside pixels take the edge pixel's colour and depth
@@ -64,6 +71,9 @@ enum class EdgeMode : std::uint8_t {
   black,   // colour 0 in every channel; depth of the edge pixel
   mirror,  // colour and depth read at x* reflected about the edge pixel (-x*, or 2 (Ws-1) - x*)
 };
+constexpr int kEdgeModeCount = 4;
+const char* to_string(EdgeMode edge) noexcept;
+bool parse_edge_mode(const char* name, EdgeMode* out) noexcept;  // "clamp", "none", "black", "mirror"
 
 struct Options {
   Method method = Method::exact;

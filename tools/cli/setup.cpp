@@ -70,6 +70,18 @@ void check_status(const Status& status, const std::string& what) {
 
 namespace {
 
+// "background, foreground, none": every name of an enum of the library, in its order.
+template <class E>
+std::string enum_names(int count) {
+  std::string names;
+  for (int i = 0; i < count; ++i) names += std::string(i ? ", " : "") + to_string(static_cast<E>(i));
+  return names;
+}
+
+}  // namespace
+
+namespace {
+
 bool needs_near(DepthEncoding e) {
   return e != DepthEncoding::linear && e != DepthEncoding::disparity;
 }
@@ -153,20 +165,11 @@ Options options_from_flags(const Flags& flags, bool read_threads_arch) {
     o.max_negative_parallax = static_cast<float>(flags.number("max-negative-parallax", 0.0, 0.0, 1e9));
   }
   o.hole_threshold = static_cast<float>(flags.number("hole-threshold", 1.0, 0.0, 1e9));
-  if (flags.has("fill")) {
-    const std::string v = flags.text("fill");
-    if (v == "background") o.hole_fill = HoleFill::background;
-    else if (v == "foreground") o.hole_fill = HoleFill::foreground;
-    else if (v == "none") o.hole_fill = HoleFill::none;
-    else flags.bad_value("fill", "unknown fill '" + v + "' (background, foreground, none)");
+  if (flags.has("fill") && !parse_hole_fill(flags.text("fill").c_str(), &o.hole_fill)) {
+    flags.bad_value("fill", "unknown fill '" + flags.text("fill") + "' (" + enum_names<HoleFill>(kHoleFillCount) + ")");
   }
-  if (flags.has("edge")) {
-    const std::string v = flags.text("edge");
-    if (v == "clamp") o.edge = EdgeMode::clamp;
-    else if (v == "none") o.edge = EdgeMode::none;
-    else if (v == "black") o.edge = EdgeMode::black;
-    else if (v == "mirror") o.edge = EdgeMode::mirror;
-    else flags.bad_value("edge", "unknown edge mode '" + v + "' (clamp, none, black, mirror)");
+  if (flags.has("edge") && !parse_edge_mode(flags.text("edge").c_str(), &o.edge)) {
+    flags.bad_value("edge", "unknown edge mode '" + flags.text("edge") + "' (" + enum_names<EdgeMode>(kEdgeModeCount) + ")");
   }
   o.guard = flags.integer("guard", 0, 0, 1 << 20);
   if (flags.has("probe-parallax")) o.probe_parallax = static_cast<float>(flags.number("probe-parallax", 0.0, -1e9, 1e9));
@@ -189,20 +192,12 @@ void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius) {
   *depth = std::move(dilated);
 }
 
-namespace {
-// "scalar, sse, avx2, avx512, neon": every instruction set the library names.
-std::string arch_names() {
-  std::string names;
-  for (int i = 0; i < kArchCount; ++i) names += std::string(i ? ", " : "") + to_string(static_cast<Arch>(i));
-  return names;
-}
-}  // namespace
 
 void check_forced_arch() {
   const char* forced = std::getenv("REPROJECT_FORCE_ARCH");
   Arch arch = Arch::scalar;
   if (forced != nullptr && *forced != '\0' && !parse_arch(forced, &arch)) {
-    fail(kExitUsage, std::string("REPROJECT_FORCE_ARCH: unknown instruction set '") + forced + "' (" + arch_names() + ")");
+    fail(kExitUsage, std::string("REPROJECT_FORCE_ARCH: unknown instruction set '") + forced + "' (" + enum_names<Arch>(kArchCount) + ")");
   }
 }
 
@@ -210,7 +205,7 @@ Arch arch_from_flags(const Flags& flags) {
   if (!flags.has("arch")) return selected_arch();
   const std::string name = flags.text("arch");
   Arch arch = Arch::scalar;
-  if (!parse_arch(name.c_str(), &arch)) flags.bad_value("arch", "unknown instruction set '" + name + "' (" + arch_names() + ")");
+  if (!parse_arch(name.c_str(), &arch)) flags.bad_value("arch", "unknown instruction set '" + name + "' (" + enum_names<Arch>(kArchCount) + ")");
   if (!arch_supported(arch)) {
     std::string supported;
     for (int i = 0; i < kArchCount; ++i) {
