@@ -1,15 +1,15 @@
-// Analytic, ray-cast test scenes (DESIGN.md §7): the true left, centre and right views of one
-// stereo camera, with their exact depths, so that a reprojected eye can be compared with the eye
-// the renderer would have drawn.
+// Analytic, ray-cast test scenes (docs/DESIGN.md §7): the true left, centre and right views of
+// one stereo camera, with their exact depths, so that a reprojected eye can be compared with the
+// eye the renderer would have drawn.
 //
 // Conventions. View space: x right, y up, z forward (z is the positive view-space distance of
-// DESIGN §3). The centre camera sits at the origin. Pixel (i, j) has its centre at continuous
-// coordinates (u, v) = (i, j); row 0 is the top row. Pixels are square, so the vertical field of
-// view follows from the horizontal one and the aspect ratio.
+// docs/DESIGN.md §3). The centre camera sits at the origin. Pixel (i, j) has its centre at
+// continuous coordinates (u, v) = (i, j); row 0 is the top row. Pixels are square, so the vertical
+// field of view follows from the horizontal one and the aspect ratio.
 //
-// The stereo camera is the standard stereo projection of DESIGN §4: the eye with offset sigma
-// (-1/2 left, 0 centre, +1/2 right) shifts clip x by side * S * (clip.w - c), side = 2 sigma. In
-// normalised device coordinates that is
+// The stereo camera is the standard stereo projection of docs/DESIGN.md §4: the eye with offset
+// sigma (-1/2 left, 0 centre, +1/2 right) shifts clip x by side * S * (clip.w - c), side = 2 sigma.
+// In normalised device coordinates that is
 //     ndc_x = x / (z tan(fov/2)) + 2 sigma S (1 - c / z),
 // which is a camera translated to x = 2 sigma T, T = S c tan(fov/2), whose frustum is sheared by
 // the constant 2 sigma S so that the plane z = c projects to the same pixels in every eye.
@@ -26,7 +26,8 @@
 
 namespace reproject::scene {
 
-// Signed eye offsets of the three views of a stereo camera (DESIGN §4's sigma, from the centre).
+// Signed eye offsets of the three views of a stereo camera (sigma of docs/DESIGN.md §4, from the
+// centre).
 constexpr double kLeftEye = -0.5;
 constexpr double kCentreEye = 0.0;
 constexpr double kRightEye = 0.5;

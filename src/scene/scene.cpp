@@ -269,7 +269,7 @@ double Camera::tan_half_fov_y() const noexcept {
 }
 
 double Camera::eye_x() const noexcept {
-  // DESIGN §4: T = S c tan(fov/2) is half the interaxial; the eye at sigma sits at 2 sigma T.
+  // docs/DESIGN.md §4: T = S c tan(fov/2) is half the interaxial; the eye at sigma is at 2 sigma T.
   return 2.0 * sigma * stereo.separation * stereo.convergence * tan_half_fov_x();
 }
 
