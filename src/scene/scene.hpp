@@ -13,6 +13,10 @@
 //     ndc_x = x / (z tan(fov/2)) + 2 sigma S (1 - c / z),
 // which is a camera translated to x = 2 sigma T, T = S c tan(fov/2), whose frustum is sheared by
 // the constant 2 sigma S so that the plane z = c projects to the same pixels in every eye.
+//
+// Files: builders.cpp, what each scene holds and its name; camera.cpp, the eyes' rays and
+// projection; trace.cpp, ray casting; texture.cpp, the colour of a surface point; render.cpp,
+// whole views (render, visible_in_both, encode_depth).
 #pragma once
 
 #include <cstdint>
@@ -34,11 +38,11 @@ constexpr double kRightEye = 0.5;
 // Default horizontal field of view: 60 degrees, in radians.
 constexpr double kDefaultHorizontalFov = 1.0471975511965976;
 
-// Built-in scenes. Add new ones at the end, with a builder in scene.cpp, a name in to_string and
-// an entry in kAllScenes. Every scene stands in the same room shell (a tiled floor and a brick
-// back wall that every ray meets) and shares its depth range and recommended stereo camera, so
-// that one set of warp flags fits them all; each of the others holds one of the default scene's
-// features alone, with the same geometry and texture as in `room`.
+// Built-in scenes. Add new ones at the end, with a builder in builders.cpp, a name in to_string and
+// describe (same file) and an entry in kAllScenes. Every scene stands in the same room shell (a
+// tiled floor and a brick back wall that every ray meets) and shares its depth range and
+// recommended stereo camera, so that one set of warp flags fits them all; each of the others holds
+// one of the default scene's features alone, with the same geometry and texture as in `room`.
 enum class SceneId : std::uint8_t {
   room,     // the default: room, boxes, a thin pole, spheres, a near object and an edge object
   boxes,    // the room with boxes at several depths (one of them yawed: slanted faces)
@@ -152,7 +156,7 @@ class Scene {
   Status visible_in_both(const Camera& target, const Camera& source, std::vector<std::uint8_t>* out,
                          int threads = 0) const;
 
-  // Object kinds and materials; public so that scene builders in scene.cpp can fill them in.
+  // Object kinds and materials; public so that the scene builders (builders.cpp) can fill them in.
   enum class Shape : std::uint8_t { plane_y, plane_z, box, sphere, cylinder_y };
   enum class Material : std::uint8_t { floor_tiles, bricks, checker, stripes, bands };
   struct Object {
