@@ -1,18 +1,22 @@
-// Analytic, ray-cast test scenes (DESIGN.md §7): the true left, centre and right views of one
-// stereo camera, with their exact depths, so that a reprojected eye can be compared with the eye
-// the renderer would have drawn.
+// Analytic, ray-cast test scenes (docs/DESIGN.md §7): the true left, centre and right views of
+// one stereo camera, with their exact depths, so that a reprojected eye can be compared with the
+// eye the renderer would have drawn.
 //
 // Conventions. View space: x right, y up, z forward (z is the positive view-space distance of
-// DESIGN §3). The centre camera sits at the origin. Pixel (i, j) has its centre at continuous
-// coordinates (u, v) = (i, j); row 0 is the top row. Pixels are square, so the vertical field of
-// view follows from the horizontal one and the aspect ratio.
+// docs/DESIGN.md §3). The centre camera sits at the origin. Pixel (i, j) has its centre at
+// continuous coordinates (u, v) = (i, j); row 0 is the top row. Pixels are square, so the vertical
+// field of view follows from the horizontal one and the aspect ratio.
 //
-// The stereo camera is the standard stereo projection of DESIGN §4: the eye with offset sigma
-// (-1/2 left, 0 centre, +1/2 right) shifts clip x by side * S * (clip.w - c), side = 2 sigma. In
-// normalised device coordinates that is
+// The stereo camera is the standard stereo projection of docs/DESIGN.md §4: the eye with offset
+// sigma (-1/2 left, 0 centre, +1/2 right) shifts clip x by side * S * (clip.w - c), side = 2 sigma.
+// In normalised device coordinates that is
 //     ndc_x = x / (z tan(fov/2)) + 2 sigma S (1 - c / z),
 // which is a camera translated to x = 2 sigma T, T = S c tan(fov/2), whose frustum is sheared by
 // the constant 2 sigma S so that the plane z = c projects to the same pixels in every eye.
+//
+// Files: builders.cpp, what each scene holds and its name; camera.cpp, the eyes' rays and
+// projection; trace.cpp, ray casting; texture.cpp, the colour of a surface point; render.cpp,
+// whole views (render, visible_in_both, encode_depth).
 #pragma once
 
 #include <cstdint>
@@ -26,18 +30,19 @@
 
 namespace reproject::scene {
 
-// Signed eye offsets of the three views of a stereo camera (DESIGN §4's sigma, from the centre).
+// Signed eye offsets of the three views of a stereo camera (sigma of docs/DESIGN.md §4, from the
+// centre).
 constexpr double kLeftEye = -0.5;
 constexpr double kCentreEye = 0.0;
 constexpr double kRightEye = 0.5;
 // Default horizontal field of view: 60 degrees, in radians.
 constexpr double kDefaultHorizontalFov = 1.0471975511965976;
 
-// Built-in scenes. Add new ones at the end, with a builder in scene.cpp, a name in to_string and
-// an entry in kAllScenes. Every scene stands in the same room shell (a tiled floor and a brick
-// back wall that every ray meets) and shares its depth range and recommended stereo camera, so
-// that one set of warp flags fits them all; each of the others holds one of the default scene's
-// features alone, with the same geometry and texture as in `room`.
+// Built-in scenes. Add new ones at the end, with a builder in builders.cpp, a name in to_string and
+// describe (same file) and an entry in kAllScenes. Every scene stands in the same room shell (a
+// tiled floor and a brick back wall that every ray meets) and shares its depth range and
+// recommended stereo camera, so that one set of warp flags fits them all; each of the others holds
+// one of the default scene's features alone, with the same geometry and texture as in `room`.
 enum class SceneId : std::uint8_t {
   room,     // the default: room, boxes, a thin pole, spheres, a near object and an edge object
   boxes,    // the room with boxes at several depths (one of them yawed: slanted faces)
@@ -151,7 +156,7 @@ class Scene {
   Status visible_in_both(const Camera& target, const Camera& source, std::vector<std::uint8_t>* out,
                          int threads = 0) const;
 
-  // Object kinds and materials; public so that scene builders in scene.cpp can fill them in.
+  // Object kinds and materials; public so that the scene builders (builders.cpp) can fill them in.
   enum class Shape : std::uint8_t { plane_y, plane_z, box, sphere, cylinder_y };
   enum class Material : std::uint8_t { floor_tiles, bricks, checker, stripes, bands };
   struct Object {
