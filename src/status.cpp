@@ -16,6 +16,7 @@ const char* to_string(StatusCode code) noexcept {
     case StatusCode::invalid_decoder: return "invalid_decoder";
     case StatusCode::invalid_model: return "invalid_model";
     case StatusCode::invalid_option: return "invalid_option";
+    case StatusCode::cancelled: return "cancelled";
   }
   return "unknown";
 }
