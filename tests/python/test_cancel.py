@@ -76,12 +76,18 @@ def run_child(delay):
     return latency, ticks
 
 
+# Under AddressSanitizer (the CI's sanitizer build preloads it) the kernels run several times slower,
+# and a block of rows with them: the 100 ms is the promise of a normal build.
+SANITIZED = "libasan" in os.environ.get("LD_PRELOAD", "")
+
+
 @pytest.mark.parametrize("delay", [0.7, 1.3])
 def test_ctrl_c_stops_a_running_call_within_100_ms(delay):
     latency, ticks = run_child(delay)
     print(f"SIGINT {delay} s into an 8K scanline call (scalar, 1 thread): KeyboardInterrupt after "
-          f"{latency * 1000:.1f} ms; another thread ran {ticks} times during the call")
-    assert latency < 0.1
+          f"{latency * 1000:.1f} ms; another thread ran {ticks} times during the call"
+          f"{' (sanitizer build)' if SANITIZED else ''}")
+    assert latency < (1.0 if SANITIZED else 0.1)
     # The GIL was released: the counting thread ran during the call (about once a millisecond).
     assert ticks > 100 * delay
 
