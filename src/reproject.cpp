@@ -190,15 +190,12 @@ Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const
   if (depth.width > kMaxWidth)
     return Status(StatusCode::invalid_size, "source depth: width %d is above the maximum %d", depth.width, kMaxWidth);
   if (depth.width == 0 || depth.height == 0) {
-    // An empty frame, unless the colour says otherwise: then the depth is missing.
+    // An empty frame, unless no depth was given at all beside a colour of some size: then the
+    // depth is missing, not empty.
     const int color_width = source.color.width(), color_height = source.color.height();
-    if (color_width > 0 && color_height > 0) {
-      if (source.depth.data == nullptr && source.depth_buffer.data == nullptr)
-        return Status(StatusCode::null_pointer, "source depth: data is null (neither depth nor depth_buffer has any) "
-                      "for a %dx%d colour", color_width, color_height);
-      return Status(StatusCode::size_mismatch, "source colour: size %dx%d, but the depth is %dx%d", color_width,
-                    color_height, depth.width, depth.height);
-    }
+    if (source.depth.data == nullptr && source.depth_buffer.data == nullptr && color_width > 0 && color_height > 0)
+      return Status(StatusCode::null_pointer, "source depth: data is null (neither depth nor depth_buffer has any) "
+                    "for a %dx%d colour", color_width, color_height);
     return Status();
   }
   if (source.depth_buffer.data == nullptr) {
