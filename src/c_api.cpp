@@ -3,11 +3,13 @@
 // nothing allocates: the message of a failure is kept in a thread-local buffer.
 #include "reproject/reproject.h"
 
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <new>
 
 #include "reproject/reproject.hpp"
 
@@ -16,7 +18,9 @@ namespace {
 using namespace reproject;
 
 // Values of the C constants are the C++ enumerators': checked here so that neither side drifts.
-static_assert(REPROJECT_INVALID_OPTION == static_cast<int>(StatusCode::invalid_option), "status codes");
+static_assert(REPROJECT_INVALID_OPTION == static_cast<int>(StatusCode::invalid_option) &&
+                  REPROJECT_CANCELLED == static_cast<int>(StatusCode::cancelled),
+              "status codes");
 static_assert(REPROJECT_METHOD_EXACT == static_cast<int>(Method::exact), "methods");
 static_assert(REPROJECT_ARCH_AVX512 == static_cast<int>(Arch::avx512) && REPROJECT_ARCH_NEON == static_cast<int>(Arch::neon) &&
                   kArchCount == 5, "arches");
@@ -40,6 +44,18 @@ static_assert(REPROJECT_DEPTH_FORMAT_FLOAT32 == static_cast<int>(DepthFormat::fl
                   REPROJECT_DEPTH_FORMAT_RGBA8_PACKED_LINEAR == static_cast<int>(DepthFormat::rgba8_packed_linear) &&
                   REPROJECT_DEPTH_FORMAT_RGBA8_PACKED_LINEAR + 1 == kDepthFormatCount,
               "depth formats");
+
+// reproject_cancel's storage holds the C++ flag (Options::cancel), made by reproject_cancel_init;
+// lock-free, so that a signal handler may set it.
+static_assert(sizeof(std::atomic<bool>) <= sizeof(reproject_cancel) && alignof(std::atomic<bool>) <= alignof(reproject_cancel),
+              "reproject_cancel holds a std::atomic<bool>");
+static_assert(std::atomic<bool>::is_always_lock_free, "the cancel flag is set from signal handlers");
+std::atomic<bool>* flag_of(reproject_cancel* cancel) noexcept {
+  return std::launder(reinterpret_cast<std::atomic<bool>*>(cancel));
+}
+const std::atomic<bool>* flag_of(const reproject_cancel* cancel) noexcept {
+  return std::launder(reinterpret_cast<const std::atomic<bool>*>(cancel));
+}
 
 thread_local char last_message[192] = "ok";
 
@@ -227,6 +243,8 @@ Status options_of(const reproject_options* c, Options* out) noexcept {
                     static_cast<unsigned>(c->struct_size));
     }
     std::memcpy(&full, c, c->struct_size < sizeof(full) ? c->struct_size : sizeof(full));
+    // A struct from an older header ends before `cancel`, or inside it: not a pointer.
+    if (c->struct_size < offsetof(reproject_options, cancel) + sizeof(full.cancel)) full.cancel = nullptr;
   }
   Options o;
   o.method = static_cast<Method>(full.method);
@@ -252,6 +270,7 @@ Status options_of(const reproject_options* c, Options* out) noexcept {
   o.secant_max_steps = full.secant_max_steps;
   if (full.arch != REPROJECT_ARCH_AUTO) o.arch = static_cast<Arch>(full.arch);
   o.threads = full.threads;
+  o.cancel = full.cancel != nullptr ? flag_of(full.cancel) : nullptr;
   *out = o;
   return Status();
 }
@@ -285,14 +304,34 @@ reproject_status warp(const reproject_source_buffers& source, const reproject_de
   if (status.ok() && left) status = target_of(*left, "left", &l);
   if (status.ok()) status = target_of(right, left ? "right" : "target", &r);
   if (status.ok()) status = check_encoding(decoder.encoding);
+  if (status.ok() && jobs != nullptr && jobs->run == nullptr)
+    status = Status(StatusCode::invalid_option, "jobs: run is null (pass jobs NULL for the library's own threads)");
   if (!status.ok()) return report(status);
   const DepthDecoder d = decoder_of(decoder);
   const ParallaxModel m{model.a, model.b};
-  if (jobs != nullptr && jobs->run != nullptr) {
+  if (jobs != nullptr) {
     const ParallelFor hook{const_cast<reproject_parallel_for*>(jobs), run_c_jobs};
     return report(left ? reproject_pair(s, d, m, o, l, r, hook) : reproject::reproject(s, d, m, o, r, hook));
   }
   return report(left ? reproject_pair(s, d, m, o, l, r) : reproject::reproject(s, d, m, o, r));
+}
+
+// The first null argument of an entry point, by its name in reproject.h.
+const char* null_name(const void* source, const void* decoder, const void* model, const void* options,
+                      const void* target) noexcept {
+  if (source == nullptr) return "source";
+  if (decoder == nullptr) return "decoder";
+  if (model == nullptr) return "model";
+  if (options == nullptr) return "options";
+  return target == nullptr ? "target" : "no argument";
+}
+const char* null_name(const void* centre, const void* decoder, const void* model, const void* options,
+                      const void* left, const void* right) noexcept {
+  if (centre == nullptr) return "centre";
+  if (decoder == nullptr) return "decoder";
+  if (model == nullptr) return "centre_to_right";
+  if (options == nullptr) return "options";
+  return left == nullptr ? "left" : right == nullptr ? "right" : "no argument";
 }
 
 }  // namespace
@@ -304,7 +343,7 @@ int32_t reproject_abi_version(void) { return REPROJECT_C_ABI_VERSION; }
 const char* reproject_last_error_message(void) { return last_message; }
 
 const char* reproject_status_name(reproject_status status) {
-  if (status < REPROJECT_OK || status > REPROJECT_INVALID_OPTION) return "?";
+  if (status < REPROJECT_OK || status > REPROJECT_CANCELLED) return "?";
   return to_string(static_cast<StatusCode>(status));
 }
 const char* reproject_method_name(int32_t method) {
@@ -321,6 +360,16 @@ const char* reproject_color_format_name(int32_t format) {
 }
 const char* reproject_depth_format_name(int32_t format) {
   return format >= 0 && format < kDepthFormatCount ? to_string(static_cast<DepthFormat>(format)) : "?";
+}
+
+void reproject_cancel_init(reproject_cancel* cancel) {
+  if (cancel != nullptr) new (cancel) std::atomic<bool>(false);
+}
+void reproject_cancel_request(reproject_cancel* cancel) {
+  if (cancel != nullptr) flag_of(cancel)->store(true, std::memory_order_relaxed);
+}
+int32_t reproject_cancel_requested(const reproject_cancel* cancel) {
+  return cancel != nullptr && flag_of(cancel)->load(std::memory_order_relaxed) ? 1 : 0;
 }
 
 int32_t reproject_arch_supported(int32_t arch) {
@@ -390,8 +439,9 @@ reproject_status reproject_parallax_from_disparity(int32_t direction, reproject_
 reproject_status reproject_warp(const reproject_source* source, const reproject_decoder* decoder,
                                 const reproject_parallax* model, const reproject_options* options,
                                 const reproject_target* target, const reproject_parallel_for* jobs) {
-  if (source == nullptr || decoder == nullptr || model == nullptr || target == nullptr) {
-    return report(Status(StatusCode::null_pointer, "reproject_warp: source, decoder, model and target are required"));
+  if (source == nullptr || decoder == nullptr || model == nullptr || options == nullptr || target == nullptr) {
+    return report(Status(StatusCode::null_pointer, "reproject_warp: %s is null (source, decoder, model, options and "
+                         "target are required)", null_name(source, decoder, model, options, target)));
   }
   return warp(buffers_of(*source), *decoder, *model, options, nullptr, buffers_of(*target), jobs);
 }
@@ -400,9 +450,10 @@ reproject_status reproject_warp_pair(const reproject_source* centre, const repro
                                      const reproject_parallax* centre_to_right, const reproject_options* options,
                                      const reproject_target* left, const reproject_target* right,
                                      const reproject_parallel_for* jobs) {
-  if (centre == nullptr || decoder == nullptr || centre_to_right == nullptr || left == nullptr || right == nullptr) {
-    return report(Status(StatusCode::null_pointer,
-                         "reproject_warp_pair: centre, decoder, model, left and right are required"));
+  if (centre == nullptr || decoder == nullptr || centre_to_right == nullptr || options == nullptr || left == nullptr ||
+      right == nullptr) {
+    return report(Status(StatusCode::null_pointer, "reproject_warp_pair: %s is null (centre, decoder, model, options, "
+                         "left and right are required)", null_name(centre, decoder, centre_to_right, options, left, right)));
   }
   const reproject_target_buffers left_buffers = buffers_of(*left);
   return warp(buffers_of(*centre), *decoder, *centre_to_right, options, &left_buffers, buffers_of(*right), jobs);
@@ -411,9 +462,9 @@ reproject_status reproject_warp_pair(const reproject_source* centre, const repro
 reproject_status reproject_warp_buffers(const reproject_source_buffers* source, const reproject_decoder* decoder,
                                         const reproject_parallax* model, const reproject_options* options,
                                         const reproject_target_buffers* target, const reproject_parallel_for* jobs) {
-  if (source == nullptr || decoder == nullptr || model == nullptr || target == nullptr) {
-    return report(
-        Status(StatusCode::null_pointer, "reproject_warp_buffers: source, decoder, model and target are required"));
+  if (source == nullptr || decoder == nullptr || model == nullptr || options == nullptr || target == nullptr) {
+    return report(Status(StatusCode::null_pointer, "reproject_warp_buffers: %s is null (source, decoder, model, "
+                         "options and target are required)", null_name(source, decoder, model, options, target)));
   }
   return warp(*source, *decoder, *model, options, nullptr, *target, jobs);
 }
@@ -422,9 +473,11 @@ reproject_status reproject_warp_pair_buffers(const reproject_source_buffers* cen
                                              const reproject_parallax* centre_to_right,
                                              const reproject_options* options, const reproject_target_buffers* left,
                                              const reproject_target_buffers* right, const reproject_parallel_for* jobs) {
-  if (centre == nullptr || decoder == nullptr || centre_to_right == nullptr || left == nullptr || right == nullptr) {
-    return report(Status(StatusCode::null_pointer,
-                         "reproject_warp_pair_buffers: centre, decoder, model, left and right are required"));
+  if (centre == nullptr || decoder == nullptr || centre_to_right == nullptr || options == nullptr || left == nullptr ||
+      right == nullptr) {
+    return report(Status(StatusCode::null_pointer, "reproject_warp_pair_buffers: %s is null (centre, decoder, model, "
+                         "options, left and right are required)",
+                         null_name(centre, decoder, centre_to_right, options, left, right)));
   }
   return warp(*centre, *decoder, *centre_to_right, options, left, *right, jobs);
 }

@@ -61,6 +61,7 @@ constexpr EnumName<StatusCode> kStatusCodes[] = {
     {StatusCode::invalid_decoder, "invalid_decoder"},
     {StatusCode::invalid_model, "invalid_model"},
     {StatusCode::invalid_option, "invalid_option"},
+    {StatusCode::cancelled, "cancelled"},
 };
 constexpr EnumName<PickSource> kPickSources[] = {
     {PickSource::both, "both"}, {PickSource::left, "left"}, {PickSource::right, "right"}, {PickSource::none, "none"},

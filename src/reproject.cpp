@@ -17,6 +17,7 @@
 #include "kernels/rows.hpp"
 #include "src/reproject_internal.hpp"
 #include "src/thread_pool.hpp"
+#include "src/view_bounds.hpp"
 
 namespace reproject {
 namespace {
@@ -24,42 +25,40 @@ namespace {
 // Widths above this would make integer column coordinates inexact in float.
 constexpr int kMaxWidth = 1 << 22;
 
-// The address range [begin, end) a plane's rows span.
-struct ByteRange {
-  std::uintptr_t begin = 0;
-  std::uintptr_t end = 0;
+// A view's rows as bytes (view_bounds.hpp), with the name its messages use.
+struct NamedView {
+  detail::ViewBytes bytes;
   const char* name = "";
 };
 
 template <class T>
-ByteRange span_of(const PlaneView<T>& plane, int floats_per_pixel, const char* name) {
-  ByteRange range;
-  range.name = name;
-  if (plane.data == nullptr || plane.width <= 0 || plane.height <= 0) return range;
-  const std::uintptr_t element = sizeof(T);
-  const std::uintptr_t last_row = static_cast<std::uintptr_t>(plane.height - 1) * static_cast<std::uintptr_t>(plane.stride);
-  range.begin = reinterpret_cast<std::uintptr_t>(plane.data);
-  range.end = range.begin + (last_row + static_cast<std::uintptr_t>(plane.width) * floats_per_pixel) * element;
-  return range;
+NamedView named(const PlaneView<T>& plane, int per_pixel, const char* name) {
+  return NamedView{detail::view_bytes(plane, per_pixel), name};
 }
-
 template <class Byte>
-ByteRange span_of(const DepthBufferT<Byte>& depth, const char* name) {
-  return span_of(PlaneView<Byte>{depth.data, depth.width, depth.height, depth.stride}, bytes_per_pixel(depth.format), name);
+NamedView named(const DepthBufferT<Byte>& depth, const char* name) {
+  return named(PlaneView<Byte>{depth.data, depth.width, depth.height, depth.stride}, bytes_per_pixel(depth.format), name);
 }
 template <class T>
-int colour_spans(const ColorViewT<T>& color, ByteRange* out, const char* name) {
+int colour_views(const ColorViewT<T>& color, NamedView* out, const char* name) {
   if (color.format != ColorFormat::float32) {
-    out[0] = span_of(color.pixels, bytes_per_pixel(color.format), name);
+    out[0] = named(color.pixels, bytes_per_pixel(color.format), name);
     return 1;
   }
   const bool interleaved = color.layout == ColorLayout::interleaved_rgba;
-  for (int c = 0; c < (interleaved ? 1 : color.channels); ++c) out[c] = span_of(color.plane[c], interleaved ? 4 : 1, name);
+  for (int c = 0; c < (interleaved ? 1 : color.channels); ++c) out[c] = named(color.plane[c], interleaved ? 4 : 1, name);
   return interleaved ? 1 : color.channels;
 }
 
-bool overlap(const ByteRange& x, const ByteRange& y) {
-  return x.begin < x.end && y.begin < y.end && x.begin < y.end && y.begin < x.end;
+// The source depth's size, without forming its stride in bytes (detail::depth_buffer_of does,
+// which validation must not do before the stride is checked).
+struct Size {
+  int width = 0;
+  int height = 0;
+};
+Size depth_size(const SourceView& source) {
+  if (source.depth_buffer.data != nullptr) return Size{source.depth_buffer.width, source.depth_buffer.height};
+  return Size{source.depth.width, source.depth.height};
 }
 
 template <class T>
@@ -70,10 +69,7 @@ Status check_plane(const PlaneView<T>& plane, int width, int height, int element
     return Status(StatusCode::invalid_size, "%s: negative size %dx%d", name, plane.width, plane.height);
   if (plane.width != width || plane.height != height)
     return Status(StatusCode::size_mismatch, "%s: size %dx%d, expected %dx%d", name, plane.width, plane.height, width, height);
-  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(width) * elements_per_pixel;
-  if (plane.stride < row)
-    return Status(StatusCode::invalid_stride, "%s: stride %td is smaller than the row (%td %s)", name, plane.stride, row, unit);
-  return Status();
+  return detail::check_view_bytes(plane, elements_per_pixel, name, unit);
 }
 
 template <class T>
@@ -163,6 +159,19 @@ Status check_jobs(const ParallelFor& jobs) {
   return Status();
 }
 
+// A depth buffer or float plane that is not used must be empty: one with its size or format set
+// and no data is a buffer the caller meant to give and did not (docs/ERRORS.md, null_pointer).
+Status check_unused_depth(const SourceView& source) {
+  const DepthBuffer& buffer = source.depth_buffer;
+  if (buffer.data == nullptr && (buffer.width != 0 || buffer.height != 0 || buffer.format != DepthFormat::float32))
+    return Status(StatusCode::null_pointer, "source depth_buffer: data is null, but its size (%dx%d) and format (%s) are "
+                  "set: give its data, or zero it and give depth", buffer.width, buffer.height, to_string(buffer.format));
+  if (buffer.data != nullptr && source.depth.data == nullptr && (source.depth.width != 0 || source.depth.height != 0))
+    return Status(StatusCode::null_pointer, "source depth: data is null, but its size (%dx%d) is set, beside "
+                  "depth_buffer: zero it", source.depth.width, source.depth.height);
+  return Status();
+}
+
 // Everything but the target: the decoder, the model, the options and the source.
 Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                     const Options& options) {
@@ -173,16 +182,25 @@ Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const
   status = check_options(options);
   if (!status.ok()) return status;
   if (!(status = check_one_depth(source, "source")).ok()) return status;
-  const DepthBuffer depth = detail::depth_buffer_of(source);
+  if (!(status = check_unused_depth(source)).ok()) return status;
+  const Size depth = depth_size(source);
   if (depth.width < 0 || depth.height < 0)
     return Status(StatusCode::invalid_size, "source depth: negative size %dx%d", depth.width, depth.height);
   if (depth.width > kMaxWidth)
     return Status(StatusCode::invalid_size, "source depth: width %d is above the maximum %d", depth.width, kMaxWidth);
-  if (depth.width == 0 || depth.height == 0) return Status();
+  if (depth.width == 0 || depth.height == 0) {
+    // An empty frame, unless no depth was given at all beside a colour of some size: then the
+    // depth is missing, not empty.
+    const int color_width = source.color.width(), color_height = source.color.height();
+    if (source.depth.data == nullptr && source.depth_buffer.data == nullptr && color_width > 0 && color_height > 0)
+      return Status(StatusCode::null_pointer, "source depth: data is null (neither depth nor depth_buffer has any) "
+                    "for a %dx%d colour", color_width, color_height);
+    return Status();
+  }
   if (source.depth_buffer.data == nullptr) {
     status = check_plane(source.depth, depth.width, depth.height, 1, "source depth");
   } else {
-    status = check_depth_buffer(depth, depth.width, depth.height, "source depth_buffer");
+    status = check_depth_buffer(source.depth_buffer, depth.width, depth.height, "source depth_buffer");
   }
   if (!status.ok()) return status;
   status = check_color(source.color, depth.width, depth.height, "source colour");
@@ -193,10 +211,15 @@ Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const
   return Status();
 }
 
+DepthFormat source_depth_format(const SourceView& source) {
+  return source.depth_buffer.data != nullptr ? source.depth_buffer.format : DepthFormat::float32;
+}
+
 Status check_target(const SourceView& source, const Options& options, const TargetView& target, const char* name) {
-  const DepthBuffer source_depth = detail::depth_buffer_of(source);
-  const int width = source_depth.width - 2 * options.guard;
-  const int height = source_depth.height;
+  const Size source_size = depth_size(source);
+  const int width = source_size.width - 2 * options.guard;
+  const int height = source_size.height;
+  const DepthFormat depth_format = source_depth_format(source);
   char label[64];
   std::snprintf(label, sizeof label, "%s colour", name);
   Status status = check_color(target.color, width, height, label);
@@ -211,16 +234,16 @@ Status check_target(const SourceView& source, const Options& options, const Targ
   if (!(status = check_one_depth(target, name)).ok()) return status;
   if (target.depth.data) {
     std::snprintf(label, sizeof label, "%s depth", name);
-    if (source_depth.format != DepthFormat::float32)
+    if (depth_format != DepthFormat::float32)
       return Status(StatusCode::size_mismatch, "%s: a float plane, but the source depth is %s: output depth goes to "
-                    "depth_buffer in the source's format", label, to_string(source_depth.format));
+                    "depth_buffer in the source's format", label, to_string(depth_format));
     if (!(status = check_plane(target.depth, width, height, 1, label)).ok()) return status;
   }
   if (target.depth_buffer.data) {
     std::snprintf(label, sizeof label, "%s depth_buffer", name);
-    if (target.depth_buffer.format != source_depth.format)
+    if (target.depth_buffer.format != depth_format)
       return Status(StatusCode::size_mismatch, "%s: format %s, the source depth is %s", label,
-                    to_string(target.depth_buffer.format), to_string(source_depth.format));
+                    to_string(target.depth_buffer.format), to_string(depth_format));
     if (!(status = check_depth_buffer(target.depth_buffer, width, height, label)).ok()) return status;
   }
   if (target.status.data) {
@@ -234,31 +257,57 @@ Status check_target(const SourceView& source, const Options& options, const Targ
   return Status();
 }
 
-// Outputs may overlap neither an input nor each other.
-Status check_aliasing(const SourceView& source, const TargetView* const* targets, int target_count) {
-  ByteRange inputs[5];
+// Outputs may share a byte neither with an input nor with each other; the bytes between rows
+// are no one's, so the halves of one side-by-side buffer may be an input and an output.
+Status check_aliasing(const SourceView& source, const TargetView* const* targets, const char* const* names,
+                      int target_count) {
+  NamedView inputs[5];
   int input_count = 0;
-  inputs[input_count++] = span_of(detail::depth_buffer_of(source), "source depth");
-  input_count += colour_spans(source.color, inputs + input_count, "source colour");
+  inputs[input_count++] = source.depth_buffer.data != nullptr ? named(source.depth_buffer, "source depth_buffer")
+                                                              : named(source.depth, 1, "source depth");
+  input_count += colour_views(source.color, inputs + input_count, "source colour");
 
-  ByteRange outputs[16];
+  // Per target: its name and the names of its outputs, for the messages.
+  char labels[2][4][32];
+  NamedView outputs[18];
   int output_count = 0;
   for (int i = 0; i < target_count; ++i) {
     const TargetView& target = *targets[i];
-    output_count += colour_spans(target.color, outputs + output_count, "target colour");
-    outputs[output_count++] = span_of(detail::depth_buffer_of(target), "target depth");
-    outputs[output_count++] = span_of(target.status, 1, "target status");
-    outputs[output_count++] = span_of(target.source_x, 1, "target source_x");
+    static const char* const kFields[4] = {"colour", "depth", "status", "source_x"};
+    for (int f = 0; f < 4; ++f) std::snprintf(labels[i][f], sizeof labels[i][f], "%s %s", names[i], kFields[f]);
+    output_count += colour_views(target.color, outputs + output_count, labels[i][0]);
+    outputs[output_count++] = target.depth_buffer.data != nullptr ? named(target.depth_buffer, labels[i][1])
+                                                                  : named(target.depth, 1, labels[i][1]);
+    outputs[output_count++] = named(target.status, 1, labels[i][2]);
+    outputs[output_count++] = named(target.source_x, 1, labels[i][3]);
   }
   for (int o = 0; o < output_count; ++o) {
     for (int i = 0; i < input_count; ++i)
-      if (overlap(outputs[o], inputs[i]))
+      if (detail::views_touch(outputs[o].bytes, inputs[i].bytes))
         return Status(StatusCode::aliasing, "%s overlaps %s", outputs[o].name, inputs[i].name);
     for (int p = o + 1; p < output_count; ++p)
-      if (overlap(outputs[o], outputs[p]))
+      if (detail::views_touch(outputs[o].bytes, outputs[p].bytes))
         return Status(StatusCode::aliasing, "%s overlaps %s", outputs[o].name, outputs[p].name);
   }
   return Status();
+}
+
+// A validated target with the outputs it does not want (null data) cleared: their other fields
+// were never checked, and the plan must not compute with them (a float depth plane's stride is
+// taken in bytes).
+TargetView wanted_outputs(const TargetView& target) {
+  TargetView clean = target;
+  if (clean.depth.data == nullptr) clean.depth = MutableFloatPlane{};
+  if (clean.depth_buffer.data == nullptr) clean.depth_buffer = MutableDepthBuffer{};
+  if (clean.status.data == nullptr) clean.status = BytePlane{};
+  if (clean.source_x.data == nullptr) clean.source_x = MutableFloatPlane{};
+  return clean;
+}
+// The same for the source's depth: the one that is not used is cleared.
+SourceView used_depth(const SourceView& source) {
+  SourceView clean = source;
+  if (clean.depth_buffer.data != nullptr) clean.depth = FloatPlane{};
+  return clean;
 }
 
 // Options::arch was checked by check_options.
@@ -267,7 +316,7 @@ const detail::KernelTable& kernels_for(const Options& options) {
 }
 
 bool empty_frame(const SourceView& source) {
-  const DepthBuffer depth = detail::depth_buffer_of(source);
+  const Size depth = depth_size(source);
   return depth.width == 0 || depth.height == 0;
 }
 
@@ -328,6 +377,13 @@ class ScratchSetLease {
   ScratchSet* set_;
 };
 
+// Each band runs its rows in blocks of about this many pixels, and reads Options::cancel before
+// each block. An 8K row is 7680 pixels, so a block is 2 rows there: at one thread with the
+// slowest configuration measured (scanline on the scalar reference over a wide parallax range,
+// about 4 ms a row) a cancel is seen within about 10 ms. The check is one relaxed load per block:
+// reproject_bench A/B against the unblocked driver showed no difference beyond its run-to-run noise.
+constexpr int kBlockPixels = 1 << 14;
+
 // What every task of a phase reads. Task i is band i of the frame, or of both eyes of a pair
 // (frames[0] left, frames[1] right), which share each source row and the near pass.
 struct RowPhase {
@@ -340,18 +396,33 @@ struct RowPhase {
   float* nearest = nullptr;
   std::unique_ptr<ScratchSlot>* slots = nullptr;
   int slot_count = 0;
+  const std::atomic<bool>* cancel = nullptr;  // Options::cancel
+  std::atomic<bool>* stopped = nullptr;       // set by a band that left rows undone
 };
 
 void run_band(const RowPhase& phase, int band, RowScratch& scratch) {
   const Frame& f = phase.frames[phase.near_pass ? phase.near_frame : (phase.pair ? 1 : 0)];
   const int begin = static_cast<int>(static_cast<long long>(f.height) * band / phase.bands);
   const int end = static_cast<int>(static_cast<long long>(f.height) * (band + 1) / phase.bands);
-  if (phase.near_pass)
-    phase.nearest[band] = detail::nearest_key_in_rows(f, *phase.kernels, begin, end);
-  else if (phase.pair)
-    detail::run_pair_rows(phase.frames[0], phase.frames[1], *phase.kernels, scratch, begin, end);
-  else
-    detail::run_rows(f, *phase.kernels, scratch, begin, end);
+  const int block = std::max(1, kBlockPixels / std::max(1, f.source_width));
+  // Blocks of one band, in order: the near pass's maximum over them is the band's, bit for bit
+  // (std::max from key_far keeps the first of equal keys, wherever the blocks split).
+  float nearest = f.key_far;
+  for (int y = begin; y < end;) {
+    if (phase.cancel != nullptr && phase.cancel->load(std::memory_order_relaxed)) {
+      phase.stopped->store(true, std::memory_order_relaxed);
+      break;
+    }
+    const int stop = end - y > block ? y + block : end;
+    if (phase.near_pass)
+      nearest = std::max(nearest, detail::nearest_key_in_rows(f, *phase.kernels, y, stop));
+    else if (phase.pair)
+      detail::run_pair_rows(phase.frames[0], phase.frames[1], *phase.kernels, scratch, y, stop);
+    else
+      detail::run_rows(f, *phase.kernels, scratch, y, stop);
+    y = stop;
+  }
+  if (phase.near_pass) phase.nearest[band] = nearest;
 }
 
 // The pool names the thread's slot; the caller prepared every slot the job can use. The tasks
@@ -391,8 +462,9 @@ void run_phase(RowPhase& phase, int count, ThreadPool* pool, int threads, const 
 
 // Runs every row of `frame_count` frames (one, or a pair's two eyes) planned from one source
 // with `options`; completes their near limit first when the options leave it to the data.
-// `jobs` null: the library's pool with Options::threads.
-void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, const Options& options,
+// `jobs` null: the library's pool with Options::threads. Returns false when Options::cancel
+// stopped it (some rows, or the near pass, left undone).
+bool run_frames(const KernelTable& kernels, Frame* frames, int frame_count, const Options& options,
                 const ParallelFor* jobs) {
   const int height = frames[0].height;
   int threads = 1;
@@ -420,6 +492,7 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
   set.reserve(slot_count, prepared, frames[0]);
 
   float nearest[kMaxBands];
+  std::atomic<bool> stopped{false};
   RowPhase phase;
   phase.kernels = &kernels;
   phase.frames = frames;
@@ -428,6 +501,8 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
   phase.nearest = nearest;
   phase.slots = set.slots.data();
   phase.slot_count = slot_count;
+  phase.cancel = options.cancel;
+  phase.stopped = &stopped;
   if (detail::near_pass_needed(frames[0])) {
     // Frame k's nearest key: its bands' keys reduced in band order from key_far, as the
     // sequential pass over the whole frame does.
@@ -440,13 +515,22 @@ void run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
       return key;
     };
     const float last_key = nearest_key_of(frame_count - 1);
+    if (stopped.load(std::memory_order_relaxed)) return false;
     detail::set_near_key(frames[frame_count - 1], last_key);
     if (frame_count == 2) {  // a mirrored pair's eyes share the key (kernels/frame.hpp)
-      detail::set_near_key(frames[0], detail::mirrored_eyes(frames[0], frames[1]) ? last_key : nearest_key_of(0));
+      const float first_key = detail::mirrored_eyes(frames[0], frames[1]) ? last_key : nearest_key_of(0);
+      if (stopped.load(std::memory_order_relaxed)) return false;
+      detail::set_near_key(frames[0], first_key);
     }
     phase.near_pass = false;
   }
   run_phase(phase, tasks, pool, slot_count, jobs);
+  return !stopped.load(std::memory_order_relaxed);
+}
+
+Status cancelled() {
+  return Status(StatusCode::cancelled, "the cancel flag (Options::cancel; options.cancel in C) was set while the call "
+                "ran: its outputs are unspecified");
 }
 
 Status reproject_one(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
@@ -456,10 +540,10 @@ Status reproject_one(const KernelTable& kernels, const SourceView& source, const
   if (!status.ok() || empty_frame(source)) return status;
   if (!(status = check_target(source, options, target, "target")).ok()) return status;
   const TargetView* targets[1] = {&target};
-  if (!(status = check_aliasing(source, targets, 1)).ok()) return status;
-  Frame frame = detail::plan_frame(source, decoder, model, options, target);
-  run_frames(kernels, &frame, 1, options, jobs);
-  return Status();
+  const char* names[1] = {"target"};
+  if (!(status = check_aliasing(source, targets, names, 1)).ok()) return status;
+  Frame frame = detail::plan_frame(used_depth(source), decoder, model, options, wanted_outputs(target));
+  return run_frames(kernels, &frame, 1, options, jobs) ? Status() : cancelled();
 }
 
 Status reproject_two(const SourceView& centre, const DepthDecoder& decoder, const ParallaxModel& centre_to_right,
@@ -471,12 +555,13 @@ Status reproject_two(const SourceView& centre, const DepthDecoder& decoder, cons
   if (!(status = check_target(centre, options, left, "left")).ok()) return status;
   if (!(status = check_target(centre, options, right, "right")).ok()) return status;
   const TargetView* targets[2] = {&left, &right};
-  if (!(status = check_aliasing(centre, targets, 2)).ok()) return status;
+  const char* names[2] = {"left", "right"};
+  if (!(status = check_aliasing(centre, targets, names, 2)).ok()) return status;
 
-  Frame frames[2] = {detail::plan_frame(centre, decoder, centre_to_left, options, left),
-                     detail::plan_frame(centre, decoder, centre_to_right, options, right)};
-  run_frames(kernels_for(options), frames, 2, options, jobs);
-  return Status();
+  const SourceView source = used_depth(centre);
+  Frame frames[2] = {detail::plan_frame(source, decoder, centre_to_left, options, wanted_outputs(left)),
+                     detail::plan_frame(source, decoder, centre_to_right, options, wanted_outputs(right))};
+  return run_frames(kernels_for(options), frames, 2, options, jobs) ? Status() : cancelled();
 }
 
 }  // namespace

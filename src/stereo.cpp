@@ -5,10 +5,13 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <new>
 #include <type_traits>
+
+#include "src/view_bounds.hpp"
 
 namespace reproject {
 namespace {
@@ -16,8 +19,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// A plane that may be empty (then its pointer is not needed); otherwise non-null and with a stride
-// that holds its rows.
+// A plane that may be empty (then its pointer is not needed); otherwise non-null, with a stride
+// that holds its rows and an extent that fits the address space (view_bounds.hpp).
 template <class T>
 Status check_plane(const PlaneView<T>& plane, const char* function, const char* name) noexcept {
   if (plane.width < 0 || plane.height < 0)
@@ -25,10 +28,9 @@ Status check_plane(const PlaneView<T>& plane, const char* function, const char* 
                   plane.height);
   if (plane.width == 0 || plane.height == 0) return Status();
   if (plane.data == nullptr) return Status(StatusCode::null_pointer, "%s: %s data is null", function, name);
-  if (plane.stride < plane.width)
-    return Status(StatusCode::invalid_stride, "%s: %s stride %td is smaller than its width %d", function, name,
-                  plane.stride, plane.width);
-  return Status();
+  char label[96];
+  std::snprintf(label, sizeof label, "%s: %s", function, name);
+  return detail::check_view_bytes(plane, 1, label, "elements");
 }
 
 template <class T, class U>
@@ -40,24 +42,11 @@ Status check_same_size(const PlaneView<T>& plane, const PlaneView<U>& reference,
   return Status();
 }
 
-// Byte ranges of two planes' rows overlap (the bytes between rows count: a caller interleaving two
-// planes row by row is refused too, as reproject() does).
+// Two checked planes share a byte of their rows (the bytes between rows are no one's: the halves
+// of one side-by-side buffer do not overlap).
 template <class T, class U>
 bool planes_overlap(const PlaneView<T>& p, const PlaneView<U>& q) noexcept {
-  if (p.data == nullptr || q.data == nullptr || p.width <= 0 || p.height <= 0 || q.width <= 0 || q.height <= 0)
-    return false;
-  auto range = [](const auto& v, std::uintptr_t* begin, std::uintptr_t* end) {
-    using Element = std::remove_pointer_t<decltype(v.data)>;
-    *begin = reinterpret_cast<std::uintptr_t>(v.data);
-    const std::uintptr_t elements =
-        static_cast<std::uintptr_t>(v.height - 1) * static_cast<std::uintptr_t>(v.stride) +
-        static_cast<std::uintptr_t>(v.width);
-    *end = *begin + elements * sizeof(Element);
-  };
-  std::uintptr_t pb, pe, qb, qe;
-  range(p, &pb, &pe);
-  range(q, &qb, &qe);
-  return pb < qe && qb < pe;
+  return detail::views_touch(detail::view_bytes(p, 1), detail::view_bytes(q, 1));
 }
 
 Status check_camera(const StereoCamera& camera, const char* function) noexcept {

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstring>
 #include <cmath>
 #include <cstdio>
@@ -1836,4 +1837,51 @@ TEST(CliRaw, ErrorsAreCheckedFirst) {
   expect_error(raw_color + " --color-format rgba8 --out e.png", 3,
                "colour 'd16.raw' is 480x540 but depth 'room/centre_depth.pfm' is 960x540");
   for (const char* file : {"e.png", "e-d.png", "e-d.raw", "e.raw", "e.exr", "e.pfm"}) EXPECT_FALSE(fs::exists(path(file))) << file;
+}
+
+// Issue 21, defect 6: an input that is not a regular file (a FIFO nobody writes to, a device, a
+// directory, `-`) is refused at once with code 3 and a message naming it, never read until
+// something writes to it. The tool runs under `timeout`, so a hang fails the test (code 124)
+// instead of hanging ctest.
+TEST(CliSafety, NonRegularInputsAreRefusedAtOnce) {
+  ensure_room();
+  for (const char* name : {"fifo.png", "fifo.pfm", "fifo.exr", "fifo.raw"}) {
+    std::error_code ignored;
+    fs::remove(path(name), ignored);
+    ASSERT_EQ(::mkfifo(path(name).c_str(), 0600), 0) << name << ": " << std::strerror(errno);
+  }
+  fs::create_directories(scratch() / "dir.pfm");
+  std::error_code ignored;
+  fs::remove(path("zero.png"), ignored);
+  fs::create_symlink("/dev/zero", path("zero.png"));  // a character device behind an image's name
+  const std::string camera = " --encoding standard --near 1 --far 20 --convergence 3.5";
+  const std::string raw = " --depth-format unorm16 --size 960x540";
+  const struct {
+    std::string args;
+    const char* input;
+  } cases[] = {
+      {"warp --color fifo.png --depth room/centre_depth.pfm" + camera + " --out f.png", "fifo.png"},
+      {"warp --color room/centre.png --depth fifo.pfm" + camera + " --out f.png", "fifo.pfm"},
+      {"warp --color fifo.exr --depth room/centre_depth.pfm" + camera + " --out f.exr", "fifo.exr"},
+      {"warp --color room/centre.png --depth fifo.raw" + raw + camera + " --out f.png", "fifo.raw"},
+      {"pair --color fifo.png --depth room/centre_depth.pfm" + camera + " --out-left l.png --out-right r.png", "fifo.png"},
+      {"pair --color room/centre.png --depth fifo.pfm" + camera + " --out-left l.png --out-right r.png", "fifo.pfm"},
+      {"budget --depth fifo.pfm --encoding linear --convergence 3", "fifo.pfm"},
+      {std::string("compare ") + kWarpFlags + " --truth fifo.png", "fifo.png"},
+      {"warp --color zero.png --depth room/centre_depth.pfm" + camera + " --out f.png", "zero.png"},
+      {"warp --color room/centre.png --depth dir.pfm" + camera + " --out f.png", "dir.pfm"},
+      {"warp --color - --depth room/centre_depth.pfm" + camera + " --out f.png", "-"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto start = std::chrono::steady_clock::now();
+    const CliRun r = run(c.args + " < /dev/null", "timeout 20 ");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.code, 3) << (r.code == 124 ? "the tool blocked on the input until timeout killed it" : r.err);
+    EXPECT_NE(r.err.find("reproject: error: '" + std::string(c.input) + "'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("is not a regular file"), std::string::npos) << r.err;
+    EXPECT_LT(seconds, 5.0);
+    std::printf("[ refused  ] %-10s in %.3f s: %s", c.input, seconds, r.err.c_str());
+  }
+  for (const char* file : {"f.png", "f.exr", "l.png", "r.png"}) EXPECT_FALSE(fs::exists(path(file))) << file;
 }

@@ -8,6 +8,12 @@
  *  - Every call that can fail returns a reproject_status (REPROJECT_OK = 0, else the code of the
  *    C++ StatusCode). The message of the calling thread's last failure is
  *    reproject_last_error_message(). Nothing is thrown or longjmp'd across this interface.
+ *  - Pointers: each declaration below says which arguments may be NULL; every other pointer
+ *    argument is required (NULL is refused with REPROJECT_NULL_POINTER, nothing written). Inside
+ *    the structs, a source buffer whose size or format is set must have data (REPROJECT_NULL_POINTER);
+ *    an output whose data is NULL is not written (colour is required). A view's rows, (height - 1)
+ *    strides plus one row, must be an offset the library can form and must end inside the address
+ *    space: larger strides are refused (REPROJECT_INVALID_STRIDE), never wrapped.
  *  - Strides count elements (floats or bytes), not bytes, as in the C++ views; the engine-format
  *    views (reproject_pixels, reproject_depth_buffer) count bytes, as their C++ twins do.
  *  - Two pairs of entry points: reproject_warp / reproject_warp_pair take float colour and depth
@@ -50,6 +56,7 @@ typedef int32_t reproject_status;
 #define REPROJECT_INVALID_DECODER 6
 #define REPROJECT_INVALID_MODEL 7
 #define REPROJECT_INVALID_OPTION 8
+#define REPROJECT_CANCELLED 9 /* options.cancel was requested during the call: outputs unspecified */
 
 /* Methods (C++ Method). */
 #define REPROJECT_METHOD_SCANLINE 0
@@ -257,6 +264,22 @@ typedef struct reproject_parallax {
   float b;
 } reproject_parallax;
 
+/* A request to stop running calls (C++ Options::cancel): the caller owns it, initialises it with
+ * reproject_cancel_init before any other use, points options.cancel at it, and
+ * calls reproject_cancel_request from any thread, or from a signal handler (a lock-free store),
+ * while calls run. A call reads it between blocks of a few rows and then returns
+ * REPROJECT_CANCELLED soon after (an 8K frame within a few tens of milliseconds at one thread);
+ * its outputs are then unspecified (some rows written, others not). It stays requested until
+ * reproject_cancel_init is called again. Touch its bytes only through these functions, and do not
+ * move or free it while a call that uses it runs. */
+typedef struct reproject_cancel {
+  int32_t state; /* opaque */
+} reproject_cancel;
+
+void reproject_cancel_init(reproject_cancel* cancel);               /* NULL: no-op */
+void reproject_cancel_request(reproject_cancel* cancel);            /* NULL: no-op; async-signal-safe */
+int32_t reproject_cancel_requested(const reproject_cancel* cancel); /* 1 or 0; NULL: 0 */
+
 /* C++ Options; the optional fields have a has_ flag (0: unset, the C++ default). Fill with
  * reproject_options_init() first: see ABI above. */
 typedef struct reproject_options {
@@ -274,10 +297,15 @@ typedef struct reproject_options {
   int32_t secant_max_steps;
   int32_t arch; /* REPROJECT_ARCH_AUTO or an REPROJECT_ARCH_* */
   int32_t threads;
+  /* Added after the fields above (a shorter struct_size from an older header leaves it NULL):
+   * NULL, the default, is a call that cannot be stopped. */
+  const reproject_cancel* cancel;
 } reproject_options;
 
 /* The caller's job system (C++ ParallelFor): run must call task(task_context, i) once for every i
- * in [0, count), on any threads in any order, and return when all calls have returned. */
+ * in [0, count), on any threads in any order, and return when all calls have returned. run is
+ * required (a struct with run NULL is refused with REPROJECT_INVALID_OPTION, not replaced by the
+ * library's pool); context is passed to run as it is and may be NULL. */
 typedef struct reproject_parallel_for {
   void* context;
   void (*run)(void* context, int32_t count, void (*task)(void* task_context, int32_t index), void* task_context);
@@ -285,7 +313,10 @@ typedef struct reproject_parallel_for {
 
 int32_t reproject_abi_version(void);
 
-/* The calling thread's last failure message ("ok" if none yet); valid until its next failing call. */
+/* The calling thread's last failure message ("ok" if none yet). Each thread has its own: the
+ * pointer is to that thread's buffer, and the text stays valid (and unchanged) until the same thread
+ * makes another call of this interface that fails; calls that succeed leave it as it is. Never NULL;
+ * do not free it. Copy it before the thread's next call if you keep it. */
 const char* reproject_last_error_message(void);
 /* Short stable names, e.g. "invalid_stride", "secant", "avx2", "standard"; "?" when unknown. */
 const char* reproject_status_name(reproject_status status);
@@ -298,28 +329,31 @@ const char* reproject_depth_format_name(int32_t format);       /* "float32", "un
 int32_t reproject_arch_supported(int32_t arch); /* 1 or 0 */
 int32_t reproject_selected_arch(void);
 
-void reproject_options_init(reproject_options* options);
+void reproject_options_init(reproject_options* options); /* NULL: no-op */
 
 /* Decoder factories (C++ DepthDecoder). Each fills *out (also when it fails, with a decoder the
- * reprojection refuses) and returns its validation. */
+ * reprojection refuses) and returns its validation. out is required; a NULL matrix m is refused
+ * (REPROJECT_INVALID_DECODER, as the C++ factories do). */
 reproject_status reproject_decoder_from_near_far(int32_t encoding, double near_plane, double far_plane,
                                                  reproject_decoder* out);
 reproject_status reproject_decoder_linear(reproject_decoder* out);
 reproject_status reproject_decoder_disparity(reproject_decoder* out);
 reproject_status reproject_decoder_from_d3d_projection(const float m[16], int32_t encoding, reproject_decoder* out);
 reproject_status reproject_decoder_from_gl_projection(const float m[16], int32_t encoding, reproject_decoder* out);
-/* w = 1/z and z for a stored value; NaN for an invalid decoder. */
+/* w = 1/z and z for a stored value; NaN for an invalid decoder or a NULL one. */
 float reproject_decoder_inverse_depth(const reproject_decoder* decoder, float stored);
 float reproject_decoder_linear_depth(const reproject_decoder* decoder, float stored);
 
-/* Parallax factories (C++ ParallaxModel); each returns the model's validation. */
+/* Parallax factories (C++ ParallaxModel); each returns the model's validation. out is required. */
 reproject_status reproject_parallax_from_stereo(double separation, double convergence, int32_t width,
                                                 int32_t direction, reproject_parallax* out);
 reproject_status reproject_parallax_from_physical(double interocular, double screen_width, double convergence,
                                                   int32_t width, int32_t direction, reproject_parallax* out);
 reproject_status reproject_parallax_from_disparity(int32_t direction, reproject_parallax* out);
 
-/* reproject() and reproject_pair(); jobs NULL: the library's own thread pool. */
+/* reproject() and reproject_pair(). Required: source (centre), decoder, model (centre_to_right),
+ * options (from reproject_options_init), target (left and right). jobs may be NULL: the library's
+ * own thread pool (options.threads); a non-NULL jobs must have run set. */
 reproject_status reproject_warp(const reproject_source* source, const reproject_decoder* decoder,
                                 const reproject_parallax* model, const reproject_options* options,
                                 const reproject_target* target, const reproject_parallel_for* jobs);

@@ -3,6 +3,7 @@
 // per-row parallax decode and the resolve stage, so their outputs mean the same thing.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 
@@ -97,6 +98,13 @@ struct Options {
   // is one of them); 0: one per hardware thread; 1: the calling thread only. Ignored by the
   // overloads that take a ParallelFor. The output does not depend on it, bit for bit.
   int threads = 0;
+  // A request to stop, owned by the caller and set from any thread (or a signal handler: a
+  // lock-free store) while the call runs: the rows are run in blocks of a few rows and the flag is
+  // read before each, so the call returns StatusCode::cancelled soon after it is set (an 8K frame
+  // within a few tens of milliseconds at one thread, with the slowest method). The outputs are
+  // then unspecified: some rows written, others not. Checked after validation: an invalid call
+  // still returns its error. Null: the call cannot be stopped. The library only reads it.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // An engine's own job system: `run` must call task(task_context, i) once for every i in

@@ -16,6 +16,7 @@ enum class StatusCode : int {
   invalid_decoder,   // depth decoder parameters out of range (near <= 0, far <= near, non-finite, ...)
   invalid_model,     // parallax model parameters non-finite or degenerate (convergence <= 0, ...)
   invalid_option,    // an Options field out of range (negative threshold, steps < 1, ...)
+  cancelled,         // Options::cancel was set while the call ran: its outputs are unspecified
 };
 
 // Short stable name of a code, e.g. "invalid_stride".

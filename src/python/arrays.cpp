@@ -49,8 +49,19 @@ PlaneView<std::uint8_t> rows_of(const py::array& a, int row_axis, int column_axi
   if (width > 1 && a.size() > 0 && a.strides(column_axis) != pixel_bytes) {
     not_a_view(a, name, (std::string("its columns are not consecutive ") + unit).c_str());
   }
-  if (height > INT32_MAX || width > INT32_MAX) throw py::value_error(std::string(name) + ": too large");
+  if (height > INT32_MAX || width > INT32_MAX) {
+    throw py::value_error(std::string(name) + ": " + describe(a) + " has more than 2147483647 rows or columns, the "
+                          "most the library takes (and at most 4194304 columns)");
+  }
   const std::ptrdiff_t row_stride = height <= 1 ? width * pixel_bytes : a.strides(row_axis);
+  // Rows run forwards, each after the previous one's pixels: a negative row stride (a[::-1]) or
+  // rows that overlap (as_strided) cannot be passed as they are, whatever the library would say.
+  if (height > 1 && a.size() > 0 && row_stride < width * pixel_bytes) {
+    const std::string why = std::string(row_stride < 0 ? "its rows run backwards" : "its rows overlap") +
+                            ": row stride " + std::to_string(row_stride) + " bytes, a row is " +
+                            std::to_string(width * pixel_bytes) + " bytes";
+    not_a_view(a, name, why.c_str());
+  }
   auto* data = static_cast<std::uint8_t*>(const_cast<void*>(a.data())) + offset_bytes;
   return PlaneView<std::uint8_t>{data, static_cast<int>(width), static_cast<int>(height), row_stride};
 }

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "reproject/depth.hpp"
 #include "reproject/parallax.hpp"
@@ -72,41 +73,41 @@ py::array_t<float> matrix_array(const float m[16]) {
 }  // namespace
 
 void bind_models(py::module_& m) {
-  py::class_<DepthDecoder>(m, "Decoder",
-                           "The shared depth decoder: stored value -> inverse depth w = 1/z (depth.hpp).")
-      .def(py::init([](const std::string& encoding, std::optional<double> near_plane, std::optional<double> far_plane) {
+  // Bound through arguments.hpp (def_init, def_static, def_method): an argument of the wrong type
+  // is a TypeError that names it.
+  py::class_<DepthDecoder> decoder(m, "Decoder",
+                                   "The shared depth decoder: stored value -> inverse depth w = 1/z (depth.hpp).");
+  def_init(decoder,
+           [](const std::string& encoding, std::optional<double> near_plane, std::optional<double> far_plane) {
              const DepthEncoding e = encoding_of(encoding);
              if (e == DepthEncoding::linear) return DepthDecoder::linear();
              if (e == DepthEncoding::disparity) return DepthDecoder::disparity();
              const double nan = std::numeric_limits<double>::quiet_NaN();
              return checked(DepthDecoder::from_near_far(e, near_plane.value_or(nan), far_plane.value_or(nan)));
-           }),
-           py::arg("encoding") = "linear", py::arg("near") = py::none(), py::arg("far") = py::none())
-      .def_static("from_near_far",
-                  [](const std::string& encoding, double near_plane, double far_plane) {
-                    return checked(DepthDecoder::from_near_far(encoding_of(encoding), near_plane, far_plane));
-                  },
-                  py::arg("encoding"), py::arg("near"), py::arg("far"))
-      .def_static("linear", &DepthDecoder::linear)
-      .def_static("disparity", &DepthDecoder::disparity)
-      .def_static("from_d3d_projection",
-                  [](const py::array_t<float, py::array::c_style | py::array::forcecast>& matrix,
-                     const std::string& encoding) {
-                    const Matrix mm = matrix_of(matrix);
-                    return checked(DepthDecoder::from_d3d_projection(mm.m, encoding_of(encoding)));
-                  },
-                  py::arg("matrix"), py::arg("encoding"),
-                  "Near/far read off a D3D projection (row-vector form, row-major: the (4, 4) array as written).")
-      .def_static("from_gl_projection",
-                  [](const py::array_t<float, py::array::c_style | py::array::forcecast>& matrix,
-                     const std::string& encoding) {
-                    const Matrix mm = matrix_of(matrix);
-                    return checked(DepthDecoder::from_gl_projection(mm.m, encoding_of(encoding)));
-                  },
-                  py::arg("matrix"), py::arg("encoding"),
-                  "Near/far read off a GL projection in glUniformMatrix4fv order (column-major: 16 numbers as "
-                  "OpenGL stores them).")
-      .def_property_readonly("encoding", [](const DepthDecoder& d) { return std::string(to_string(d.encoding())); })
+           },
+           py::arg("encoding") = "linear", py::arg("near") = py::none(), py::arg("far") = py::none());
+  def_static(decoder, "from_near_far",
+             [](const std::string& encoding, double near_plane, double far_plane) {
+               return checked(DepthDecoder::from_near_far(encoding_of(encoding), near_plane, far_plane));
+             },
+             py::arg("encoding"), py::arg("near"), py::arg("far"));
+  decoder.def_static("linear", &DepthDecoder::linear).def_static("disparity", &DepthDecoder::disparity);
+  def_static(decoder, "from_d3d_projection",
+             [](const py::array_t<float, py::array::c_style | py::array::forcecast>& matrix, const std::string& encoding) {
+               const Matrix mm = matrix_of(matrix);
+               return checked(DepthDecoder::from_d3d_projection(mm.m, encoding_of(encoding)));
+             },
+             py::arg("matrix"), py::arg("encoding"),
+             "Near/far read off a D3D projection (row-vector form, row-major: the (4, 4) array as written).");
+  def_static(decoder, "from_gl_projection",
+             [](const py::array_t<float, py::array::c_style | py::array::forcecast>& matrix, const std::string& encoding) {
+               const Matrix mm = matrix_of(matrix);
+               return checked(DepthDecoder::from_gl_projection(mm.m, encoding_of(encoding)));
+             },
+             py::arg("matrix"), py::arg("encoding"),
+             "Near/far read off a GL projection in glUniformMatrix4fv order (column-major: 16 numbers as "
+             "OpenGL stores them).");
+  decoder.def_property_readonly("encoding", [](const DepthDecoder& d) { return std::string(to_string(d.encoding())); })
       .def_property_readonly("near", &DepthDecoder::near_plane)
       .def_property_readonly("far", &DepthDecoder::far_plane)
       .def_property_readonly("A", &DepthDecoder::A)
@@ -127,70 +128,70 @@ void bind_models(py::module_& m) {
                ", far=" + py::repr(py::float_(d.far_plane())).cast<std::string>() + ")";
       });
 
-  py::class_<ParallaxModel>(m, "ParallaxModel", "p(w) = a + b w pixels (parallax.hpp).")
-      .def(py::init([](float a, float b) { return checked(ParallaxModel{a, b}); }), py::arg("a"), py::arg("b"))
-      .def_readwrite("a", &ParallaxModel::a)
+  py::class_<ParallaxModel> model(m, "ParallaxModel", "p(w) = a + b w pixels (parallax.hpp).");
+  // a and b are floats: a number beyond the float range is named, not turned into inf.
+  def_init(model, [](double a, double b) { return checked(ParallaxModel{float_argument(a, "a"), float_argument(b, "b")}); },
+           py::arg("a"), py::arg("b"));
+  model.def_readwrite("a", &ParallaxModel::a)
       .def_readwrite("b", &ParallaxModel::b)
       .def("parallax", [](const ParallaxModel& p, const py::object& w) {
              return elementwise<float>(w, [&p](float v) { return p.parallax(v); });
            },
-           py::arg("inverse_depth"))
-      .def_static("from_stereo",
-                  [](double separation, double convergence, int width, const std::string& direction) {
-                    return checked(ParallaxModel::from_stereo(separation, convergence, width, direction_of(direction)));
-                  },
-                  py::arg("separation"), py::arg("convergence"), py::arg("width"), py::arg("direction"))
-      .def_static("from_physical",
-                  [](double interocular, double screen_width, double convergence, int width,
-                     const std::string& direction) {
-                    return checked(ParallaxModel::from_physical(interocular, screen_width, convergence, width,
-                                                                direction_of(direction)));
-                  },
-                  py::arg("interocular"), py::arg("screen_width"), py::arg("convergence"), py::arg("width"),
-                  py::arg("direction"))
-      .def_static("from_disparity",
-                  [](const std::string& direction) {
-                    return checked(ParallaxModel::from_disparity(direction_of(direction)));
-                  },
-                  py::arg("direction") = "left-to-right")
-      .def("__repr__", [](const ParallaxModel& p) {
-        return "ParallaxModel(a=" + py::repr(py::float_(p.a)).cast<std::string>() +
-               ", b=" + py::repr(py::float_(p.b)).cast<std::string>() + ")";
-      });
+           py::arg("inverse_depth"));
+  def_static(model, "from_stereo",
+             [](double separation, double convergence, int width, const std::string& direction) {
+               return checked(ParallaxModel::from_stereo(separation, convergence, width, direction_of(direction)));
+             },
+             py::arg("separation"), py::arg("convergence"), py::arg("width"), py::arg("direction"));
+  def_static(model, "from_physical",
+             [](double interocular, double screen_width, double convergence, int width, const std::string& direction) {
+               return checked(ParallaxModel::from_physical(interocular, screen_width, convergence, width,
+                                                           direction_of(direction)));
+             },
+             py::arg("interocular"), py::arg("screen_width"), py::arg("convergence"), py::arg("width"),
+             py::arg("direction"));
+  def_static(model, "from_disparity",
+             [](const std::string& direction) { return checked(ParallaxModel::from_disparity(direction_of(direction))); },
+             py::arg("direction") = "left-to-right");
+  model.def("__repr__", [](const ParallaxModel& p) {
+    return "ParallaxModel(a=" + py::repr(py::float_(p.a)).cast<std::string>() +
+           ", b=" + py::repr(py::float_(p.b)).cast<std::string>() + ")";
+  });
 
-  py::class_<StereoCamera>(m, "StereoCamera", "The standard stereo projection: separation S, convergence c.")
-      .def(py::init([](double separation, double convergence) { return StereoCamera{separation, convergence}; }),
-           py::arg("separation") = 0.0, py::arg("convergence") = 1.0)
-      .def_readwrite("separation", &StereoCamera::separation)
-      .def_readwrite("convergence", &StereoCamera::convergence)
-      .def_static("from_physical", &StereoCamera::from_physical, py::arg("interocular"), py::arg("screen_width"),
-                  py::arg("convergence"))
-      .def("eye_translation", &StereoCamera::eye_translation, py::arg("horizontal_fov"))
-      .def("parallax",
-           [](const StereoCamera& c, int width, const std::string& direction) {
-             return checked(c.parallax(width, direction_of(direction)));
-           },
-           py::arg("width"), py::arg("direction"))
-      .def("projection_d3d",
-           [](const StereoCamera& c, const py::array_t<float, py::array::c_style | py::array::forcecast>& mono,
-              const std::string& eye) {
-             float out[16];
-             c.projection_d3d(matrix_of(mono).m, eye_of(eye), out);
-             return matrix_array(out);
-           },
-           py::arg("mono"), py::arg("eye"))
-      .def("projection_gl",
-           [](const StereoCamera& c, const py::array_t<float, py::array::c_style | py::array::forcecast>& mono,
-              const std::string& eye) {
-             float out[16];
-             c.projection_gl(matrix_of(mono).m, eye_of(eye), out);
-             return matrix_array(out);
-           },
-           py::arg("mono"), py::arg("eye"))
-      .def("__repr__", [](const StereoCamera& c) {
-        return "StereoCamera(separation=" + py::repr(py::float_(c.separation)).cast<std::string>() +
-               ", convergence=" + py::repr(py::float_(c.convergence)).cast<std::string>() + ")";
-      });
+  py::class_<StereoCamera> camera(m, "StereoCamera", "The standard stereo projection: separation S, convergence c.");
+  def_init(camera, [](double separation, double convergence) { return StereoCamera{separation, convergence}; },
+           py::arg("separation") = 0.0, py::arg("convergence") = 1.0);
+  camera.def_readwrite("separation", &StereoCamera::separation).def_readwrite("convergence", &StereoCamera::convergence);
+  def_static(camera, "from_physical", &StereoCamera::from_physical, py::arg("interocular"), py::arg("screen_width"),
+             py::arg("convergence"));
+  def_method(camera, "eye_translation", &StereoCamera::eye_translation, py::arg("horizontal_fov"),
+             "The eyes' horizontal offset from the centre camera, in view units, for a horizontal field of view in "
+             "radians.");
+  def_method(camera, "parallax",
+             [](const StereoCamera& c, int width, const std::string& direction) {
+               return checked(c.parallax(width, direction_of(direction)));
+             },
+             py::arg("width"), py::arg("direction"));
+  def_method(camera, "projection_d3d",
+             [](const StereoCamera& c, const py::array_t<float, py::array::c_style | py::array::forcecast>& mono,
+                const std::string& eye) {
+               float out[16];
+               c.projection_d3d(matrix_of(mono).m, eye_of(eye), out);
+               return matrix_array(out);
+             },
+             py::arg("mono"), py::arg("eye"));
+  def_method(camera, "projection_gl",
+             [](const StereoCamera& c, const py::array_t<float, py::array::c_style | py::array::forcecast>& mono,
+                const std::string& eye) {
+               float out[16];
+               c.projection_gl(matrix_of(mono).m, eye_of(eye), out);
+               return matrix_array(out);
+             },
+             py::arg("mono"), py::arg("eye"));
+  camera.def("__repr__", [](const StereoCamera& c) {
+    return "StereoCamera(separation=" + py::repr(py::float_(c.separation)).cast<std::string>() +
+           ", convergence=" + py::repr(py::float_(c.convergence)).cast<std::string>() + ")";
+  });
 }
 
 }  // namespace reproject::python

@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <limits>
@@ -15,8 +16,11 @@
 #include <optional>
 #include <string>
 
+#include "arguments.hpp"
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
+#include "outputs.hpp"
 #include "reproject/reproject.hpp"
 
 namespace reproject::python {
@@ -72,10 +76,9 @@ Concurrency& concurrency() {
   return c;
 }
 
-// Runs `work` with the GIL released, counted by the test-only counters.
+// Runs `work` (GIL released), counted by the test-only counters.
 template <class Work>
-Status run_without_gil(Work&& work) {
-  py::gil_scoped_release release;
+Status counted(Work& work) {
   Concurrency& c = concurrency();
   {
     std::unique_lock<std::mutex> lock(c.mutex);
@@ -93,6 +96,14 @@ Status run_without_gil(Work&& work) {
     --c.inside;
   }
   return status;
+}
+
+// Runs `work` with the GIL released, counted: on the main thread, Ctrl-C (any signal handler that
+// raises) sets `cancel` and raises KeyboardInterrupt within a poll and a block of rows
+// (interrupt.hpp).
+template <class Work>
+Status run_without_gil(Work&& work, std::atomic<bool>& cancel) {
+  return run_interruptible([&work] { return counted(work); }, cancel);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -152,21 +163,23 @@ ParallaxModel model_from(const std::optional<ParallaxModel>& model, const DepthD
                               : parse_name<EyeDirection>(direction.value_or("centre-to-right"), parse_direction,
                                                          "direction");
   if (pair && direction) throw py::value_error("warp_pair makes both eyes from the centre: no direction=");
-  return ParallaxModel::from_stereo(separation.value_or(0.03), *convergence, width, d);
+  // An empty frame (width 0) is valid and writes nothing; its model is made for one column so that
+  // separation and convergence are still checked (a stereo model needs a width >= 1).
+  return ParallaxModel::from_stereo(separation.value_or(0.03), *convergence, std::max(width, 1), d);
 }
 
-Options options_from(const std::string& method, std::optional<float> max_negative_parallax, float hole_threshold,
+Options options_from(const std::string& method, std::optional<double> max_negative_parallax, double hole_threshold,
                      const std::string& hole_fill, const std::string& edge, int guard,
-                     std::optional<float> probe_parallax, int march_steps, int secant_max_steps,
+                     std::optional<double> probe_parallax, int march_steps, int secant_max_steps,
                      const std::optional<std::string>& arch, int threads) {
   Options o;
   o.method = parse_name<Method>(method, parse_method, "method");
-  o.max_negative_parallax = max_negative_parallax;
-  o.hole_threshold = hole_threshold;
+  if (max_negative_parallax) o.max_negative_parallax = float_argument(*max_negative_parallax, "max_negative_parallax");
+  o.hole_threshold = float_argument(hole_threshold, "hole_threshold");
   o.hole_fill = parse_fill(hole_fill);
   o.edge = parse_edge(edge);
   o.guard = guard;
-  o.probe_parallax = probe_parallax;
+  if (probe_parallax) o.probe_parallax = float_argument(*probe_parallax, "probe_parallax");
   o.march_steps = march_steps;
   o.secant_max_steps = secant_max_steps;
   if (arch) o.arch = parse_name<Arch>(*arch, parse_arch, "arch");
@@ -283,7 +296,7 @@ bool depth_has_channels(DepthFormat format) { return format == DepthFormat::rgba
 
 Source source_from(const py::array& color, const py::array& depth, const std::string& color_space,
                    const std::optional<std::string>& depth_format,
-                   const std::optional<std::pair<float, float>>& linear_range) {
+                   const std::optional<std::pair<double, double>>& linear_range) {
   Source s;
   s.color_format = color_format_of(color, color_space);
   s.depth_format = depth_format_of(depth, depth_format);
@@ -307,8 +320,8 @@ Source source_from(const py::array& color, const py::array& depth, const std::st
     const PlaneView<std::uint8_t> rows = pixel_rows(depth, "depth");
     s.view.depth_buffer = DepthBuffer::of(s.depth_format, rows.data, rows.width, rows.height, rows.stride);
     if (linear_range) {  // checked by the library (finite, not empty)
-      s.view.depth_buffer.linear_near = linear_range->first;
-      s.view.depth_buffer.linear_far = linear_range->second;
+      s.view.depth_buffer.linear_near = float_argument(linear_range->first, "linear_range");
+      s.view.depth_buffer.linear_far = float_argument(linear_range->second, "linear_range");
     }
     s.width = rows.width;
     s.height = rows.height;
@@ -365,49 +378,33 @@ py::array new_depth(const Source& s, int height, int width) {
   return py::array(dtype_of(s.depth_format), {height, width});
 }
 
-void check_shape(const py::array& a, std::initializer_list<py::ssize_t> shape, const char* name) {
-  bool same = a.ndim() == static_cast<py::ssize_t>(shape.size());
-  int i = 0;
-  for (py::ssize_t n : shape) same = same && a.shape(i++) == n;
-  if (!same) {
-    std::string want = "(";
-    i = 0;
-    for (py::ssize_t n : shape) want += (i++ ? ", " : "") + std::to_string(n);
-    throw py::value_error(std::string(name) + ": expected shape " + want + "), got " + describe(a));
-  }
-}
-
 // An output in an engine format: a writable array of the source's dtype, of shape (H, W), or
 // (H, W, 4) when its pixels have channels, as bytes (any row stride).
 PlaneView<std::uint8_t> output_pixels(const py::object& o, const py::dtype& dtype, bool channels, int height,
                                       int width, const std::string& label) {
-  const py::array a = py::array::ensure(o);
-  if (!a || !has_dtype(a, dtype)) {
-    throw py::type_error(label + ": expected a " + name_of(dtype) + " array (the source's dtype), got " +
-                         (a ? describe(a) : py::str(py::type::of(o)).cast<std::string>()));
+  const std::vector<py::ssize_t> shape = channels ? std::vector<py::ssize_t>{height, width, 4}
+                                                  : std::vector<py::ssize_t>{height, width};
+  return pixel_rows(output_array(o, dtype, shape, label), label.c_str());
+}
+
+// The shape of the source's colour form (what new_color makes).
+std::vector<py::ssize_t> color_shape(const Source& s, int height, int width) {
+  if (s.color_format != ColorFormat::float32) return {height, width, 4};
+  switch (s.form) {
+    case ColorForm::plane: return {height, width};
+    case ColorForm::chw: return {s.channels, height, width};
+    case ColorForm::hwc: return {height, width, s.channels};
   }
-  require_writeable(a, label.c_str());
-  if (channels) {
-    check_shape(a, {height, width, 4}, label.c_str());
-  } else {
-    check_shape(a, {height, width}, label.c_str());
-  }
-  return pixel_rows(a, label.c_str());
+  return {};
 }
 
 // A float colour output: float32, laid out like the source colour.
 MutableColorView float_color_output(const Source& s, const py::object& o, int height, int width,
                                     const std::string& label) {
-  const py::array color = py::array::ensure(o);
-  if (!color) throw py::type_error(label + ": expected a float32 array");
-  require_dtype(color, label.c_str());
-  require_writeable(color, label.c_str());
-  const ColorForm form = color_form(color, height, width, label.c_str());
-  if (form != s.form || channel_count(color, form) != s.channels) {
-    throw py::value_error(label + ": " + describe(color) + " is not laid out like the source colour");
-  }
+  const py::array color = output_array(o, dtype_of(ColorFormat::float32), color_shape(s, height, width), label,
+                                       "laid out like the source colour");
   MutableColorView view;
-  if (!color_view(color, form, label.c_str(), &view)) {
+  if (!color_view(color, s.form, label.c_str(), &view)) {
     throw py::value_error(label + ": " + describe(color) +
                           " packs its pixels, which the library cannot write in place: pass the Result of an earlier "
                           "call, or numpy.moveaxis of a (C, H, W) array");
@@ -434,7 +431,8 @@ Target target_from(const Source& s, int height, int width, const py::object& out
   } else if (py::isinstance<py::array>(out)) {
     t.result.color = out;
   } else {
-    throw py::type_error(std::string(name) + ": expected a Result, a colour array or None");
+    throw py::type_error(std::string(name) + ": got " + short_value(out) + "; it takes a Result of an earlier call, "
+                         "a colour array or None");
   }
   const std::string prefix = std::string(name) + ".";
   if (s.color_format == ColorFormat::float32) {
@@ -448,11 +446,7 @@ Target target_from(const Source& s, int height, int width, const py::object& out
     MutableFloatPlane plane;
     if (o.is_none()) return plane;
     const std::string label = prefix + field;
-    const py::array a = py::array::ensure(o);
-    if (!a) throw py::type_error(label + ": expected a float32 array");
-    require_dtype(a, label.c_str());
-    require_writeable(a, label.c_str());
-    check_shape(a, {height, width}, label.c_str());
+    const py::array a = output_array(o, dtype_of(DepthFormat::float32), {height, width}, label);
     return plane_view<float>(a, 0, 1, 0, label.c_str());
   };
   if (s.depth_format == DepthFormat::float32) {
@@ -467,24 +461,24 @@ Target target_from(const Source& s, int height, int width, const py::object& out
   t.view.source_x = float_plane(t.result.source_x, "source_x");
   if (!t.result.status.is_none()) {
     const std::string label = prefix + "status";
-    const py::array a = py::array::ensure(t.result.status);
-    if (!a) throw py::type_error(label + ": expected a uint8 array");
-    require_dtype(a, label.c_str(), true);
-    require_writeable(a, label.c_str());
-    check_shape(a, {height, width}, label.c_str());
+    const py::array a = output_array(t.result.status, py::dtype::of<std::uint8_t>(), {height, width}, label);
     t.view.status = plane_view<std::uint8_t>(a, 0, 1, 0, label.c_str());
   }
   return t;
 }
 
-// The target's size: the source's less the guard band (the library refuses a guard too wide).
+// The target's width: the source's less the guard band on each side, in 64 bits (2 guard
+// overflows int near its limit, and a wrapped width would be allocated). An empty source makes
+// an empty target, as the library does.
 int target_width(const Source& s, int guard) {
-  const int width = s.width - 2 * guard;
-  if (guard < 0 || width < 0) {
-    throw py::value_error("guard " + std::to_string(guard) + " leaves no target columns of a source " +
-                          std::to_string(s.width) + " wide");
+  if (guard < 0) throw py::value_error("guard: " + std::to_string(guard) + " is negative: pass 0 or more columns");
+  if (s.width == 0) return 0;
+  const long long width = static_cast<long long>(s.width) - 2LL * guard;
+  if (width < 1) {
+    throw py::value_error("guard: " + std::to_string(guard) + " columns on each side leave no target columns of a source " +
+                          std::to_string(s.width) + " wide: pass at most " + std::to_string((s.width - 1) / 2));
   }
-  return width;
+  return static_cast<int>(width);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -492,13 +486,13 @@ int target_width(const Source& s, int guard) {
 
 #define REPROJECT_WARP_PARAMETERS                                                                                 \
   const std::string &color_space, const std::optional<std::string>&depth_format,                                  \
-      const std::optional<std::pair<float, float>>&linear_range, const std::optional<std::string>&encoding,       \
+      const std::optional<std::pair<double, double>>&linear_range, const std::optional<std::string>&encoding,     \
       std::optional<double> near_plane, std::optional<double> far_plane,                                          \
       const std::optional<DepthDecoder>&decoder, std::optional<double> separation,                                \
       std::optional<double> convergence, const std::optional<std::string>&direction,                              \
       const std::optional<ParallaxModel>&model, const std::string &method,                                        \
-      std::optional<float> max_negative_parallax, float hole_threshold, const std::string &hole_fill,             \
-      const std::string &edge, int guard, std::optional<float> probe_parallax, int march_steps,                   \
+      std::optional<double> max_negative_parallax, double hole_threshold, const std::string &hole_fill,           \
+      const std::string &edge, int guard, std::optional<double> probe_parallax, int march_steps,                  \
       int secant_max_steps, const std::optional<std::string>&arch, int threads
 
 Result warp(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS, const py::object& out) {
@@ -509,7 +503,10 @@ Result warp(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAM
   const int width = target_width(s, guard);
   const ParallaxModel m = model_from(model, d, separation, convergence, direction, width, false);
   Target t = target_from(s, s.height, width, out, "out");
-  raise_if_failed(run_without_gil([&] { return reproject::reproject(s.view, d, m, o, t.view); }));
+  std::atomic<bool> cancel{false};
+  Options cancellable = o;
+  cancellable.cancel = &cancel;
+  raise_if_failed(run_without_gil([&] { return reproject::reproject(s.view, d, m, cancellable, t.view); }, cancel));
   return t.result;
 }
 
@@ -523,8 +520,11 @@ PairResult warp_pair(const py::array& color, const py::array& depth, REPROJECT_W
   const ParallaxModel m = model_from(model, d, separation, convergence, direction, width, true);
   Target left = target_from(s, s.height, width, out_left, "out_left");
   Target right = target_from(s, s.height, width, out_right, "out_right");
-  raise_if_failed(
-      run_without_gil([&] { return reproject::reproject_pair(s.view, d, m, o, left.view, right.view); }));
+  std::atomic<bool> cancel{false};
+  Options cancellable = o;
+  cancellable.cancel = &cancel;
+  raise_if_failed(run_without_gil(
+      [&] { return reproject::reproject_pair(s.view, d, m, cancellable, left.view, right.view); }, cancel));
   return PairResult{left.result, right.result};
 }
 
@@ -559,19 +559,21 @@ out: None (new arrays), a Result of an earlier call (written in place: no alloca
 Returns a Result: color (the source's form and dtype), depth (the source depth's dtype and
 format: stencil bits and the packed format's alpha are copied from the source pixel the output
 interpolates from), status (uint8: 0 hit, 1 hole, 2 outside, 3 clipped), source_x (float32). The
-GIL is released while the kernels run.
-Errors: TypeError for a wrong dtype (the message lists the accepted ones); ValueError with the
-library's message for everything else.)doc";
+GIL is released while the kernels run. Ctrl-C (KeyboardInterrupt, or any signal handler that
+raises) stops a call made from the main thread within about 10 ms plus a block of rows; the
+outputs it was writing are then unspecified.
+Errors: TypeError for an argument of the wrong type or dtype (naming it and what it takes);
+ValueError with the library's message for everything else.)doc";
 
 // Adds the keyword arguments shared by warp and warp_pair, in the same order as the parameters.
 template <class Function, class... Extra>
 void def_warp(py::module_& m, const char* name, Function function, const char* doc, Extra... extra) {
-  m.def(name, function, py::arg("color"), py::arg("depth"), py::kw_only(), py::arg("color_space") = "linear",
+  def_function(m, name, function, py::arg("color"), py::arg("depth"), py::kw_only(), py::arg("color_space") = "linear",
         py::arg("depth_format") = py::none(), py::arg("linear_range") = py::none(), py::arg("encoding") = py::none(),
         py::arg("near") = py::none(), py::arg("far") = py::none(), py::arg("decoder") = py::none(),
         py::arg("separation") = py::none(), py::arg("convergence") = py::none(), py::arg("direction") = py::none(),
         py::arg("model") = py::none(), py::arg("method") = "exact", py::arg("max_negative_parallax") = py::none(),
-        py::arg("hole_threshold") = 1.0f, py::arg("hole_fill") = "background", py::arg("edge") = "clamp",
+        py::arg("hole_threshold") = 1.0, py::arg("hole_fill") = "background", py::arg("edge") = "clamp",
         py::arg("guard") = 0, py::arg("probe_parallax") = py::none(), py::arg("march_steps") = 16,
         py::arg("secant_max_steps") = 256, py::arg("arch") = py::none(), py::arg("threads") = 0, extra..., doc);
 }
@@ -604,11 +606,14 @@ void bind_core(py::module_& m) {
   def_warp(m, "warp_pair", &warp_pair,
            "warp_pair(color, depth, *, ...) -> PairResult\n\nThe centre view to both eyes in one call "
            "(reproject_pair): the right eye with sigma = +1/2 of the stereo camera (or model=, the centre-to-right "
-           "model), the left with its mirror. Arguments as warp(), without direction=; out_left=, out_right= as out=.",
+           "model), the left with its mirror. Arguments as warp(); direction= is refused (ValueError), since the "
+           "eyes are always the left and the right one of the centre view, and so is a disparity map (it belongs "
+           "to one eye). out_left=, out_right= as out=. Ctrl-C stops the call as it stops warp().",
            py::arg("out_left") = py::none(), py::arg("out_right") = py::none());
 
-  m.def("arch_supported", [](const std::string& arch) { return arch_supported(parse_name<Arch>(arch, parse_arch, "arch")); },
-        py::arg("arch"), "Whether the kernels for `arch` (scalar, sse, avx2, avx512) are compiled in and this CPU runs them.");
+  def_function(m, "arch_supported",
+               [](const std::string& arch) { return arch_supported(parse_name<Arch>(arch, parse_arch, "arch")); },
+               py::arg("arch"), "Whether the kernels for `arch` (scalar, sse, avx2, avx512) are compiled in and this CPU runs them.");
   m.def("selected_arch", [] { return std::string(to_string(selected_arch())); },
         "The instruction set calls use when arch= is unset (REPROJECT_FORCE_ARCH overrides the choice).");
   m.attr("methods") = py::make_tuple("scanline", "march16", "single", "secant", "exact");

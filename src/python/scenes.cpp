@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "scene.hpp"
 
@@ -135,7 +136,7 @@ void bind_scenes(py::module_& m) {
       .def("__repr__", [](const SceneViews& v) {
         return "SceneViews('" + v.name + "', " + std::to_string(v.width) + "x" + std::to_string(v.height) + ")";
       });
-  m.def("scene", &make_scene, py::arg("name") = "room", py::arg("width") = 960, py::arg("height") = 540,
+  def_function(m, "scene", &make_scene, py::arg("name") = "room", py::arg("width") = 960, py::arg("height") = 540,
         py::kw_only(), py::arg("fov") = 60.0, py::arg("encoding") = "standard", py::arg("separation") = py::none(),
         py::arg("convergence") = py::none(), py::arg("threads") = 0,
         "scene(name='room', width=960, height=540, *, fov=60, encoding='standard', separation=None, "

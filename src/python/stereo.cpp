@@ -9,6 +9,7 @@
 #include <string>
 
 #include "arrays.hpp"
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "reproject/stereo.hpp"
 
@@ -73,7 +74,7 @@ void bind_stereo(py::module_& m) {
       .def_readonly("below_histogram", &ParallaxBudget::below_histogram)
       .def_readonly("above_histogram", &ParallaxBudget::above_histogram);
   m.attr("budget_percentiles") = tuple_of(kBudgetPercentiles);
-  m.def("parallax_budget",
+  def_function(m, "parallax_budget",
         [](const py::array& depth, const DepthDecoder& decoder, const StereoCamera& camera,
            std::optional<double> eye_separation, int display_width, std::optional<double> parallax_limit,
            int histogram_bins, std::optional<double> histogram_min, std::optional<double> histogram_max) {
@@ -104,16 +105,18 @@ void bind_stereo(py::module_& m) {
         "The parallax budget of a depth buffer under a stereo camera (BudgetOptions as keyword arguments).");
 
   // Frusta and 2. the stereo culling frustum
-  py::class_<ViewFrustum>(m, "ViewFrustum", "A view frustum (glFrustum's numbers at the near plane).")
-      .def(py::init([](double left, double right, double bottom, double top, double near_plane, double far_plane,
-                       bool orthographic) {
-             return ViewFrustum{left, right, bottom, top, near_plane, far_plane, orthographic};
-           }),
+  py::class_<ViewFrustum> frustum(m, "ViewFrustum", "A view frustum (glFrustum's numbers at the near plane).");
+  def_init(frustum,
+           [](double left, double right, double bottom, double top, double near_plane, double far_plane,
+              bool orthographic) { return ViewFrustum{left, right, bottom, top, near_plane, far_plane, orthographic}; },
            py::arg("left") = -1.0, py::arg("right") = 1.0, py::arg("bottom") = -1.0, py::arg("top") = 1.0,
-           py::arg("near") = 1.0, py::arg("far") = 1000.0, py::arg("orthographic") = false)
-      .def_static("perspective", &ViewFrustum::perspective, py::arg("horizontal_fov"), py::arg("width"),
-                  py::arg("height"), py::arg("near"), py::arg("far"))
-      .def_readwrite("left", &ViewFrustum::left)
+           py::arg("near") = 1.0, py::arg("far") = 1000.0, py::arg("orthographic") = false);
+  def_static(frustum, "perspective", &ViewFrustum::perspective, py::arg("horizontal_fov"), py::arg("width"),
+             py::arg("height"), py::arg("near"), py::arg("far"),
+             "A symmetric perspective frustum with square pixels: horizontal_fov in radians (math.radians(60) for "
+             "60 degrees), width and height in pixels (their ratio gives the vertical extent), near > 0, far > near "
+             "(may be inf). right = near tan(horizontal_fov / 2), top = right height / width.");
+  frustum.def_readwrite("left", &ViewFrustum::left)
       .def_readwrite("right", &ViewFrustum::right)
       .def_readwrite("bottom", &ViewFrustum::bottom)
       .def_readwrite("top", &ViewFrustum::top)
@@ -121,7 +124,8 @@ void bind_stereo(py::module_& m) {
       .def_readwrite("far", &ViewFrustum::far_plane)
       .def_readwrite("orthographic", &ViewFrustum::orthographic)
       .def("validate", [](const ViewFrustum& f) { raise_if_failed(f.validate()); });
-  py::class_<CullingFrustum>(m, "CullingFrustum", "One frustum that holds both eyes' frusta.")
+  py::class_<CullingFrustum> culling(m, "CullingFrustum", "One frustum that holds both eyes' frusta.");
+  culling
       .def_readonly("pull_back", &CullingFrustum::pull_back)
       .def_property_readonly("origin", [](const CullingFrustum& c) { return tuple_of(c.origin); })
       .def_readonly("frustum", &CullingFrustum::frustum)
@@ -130,9 +134,10 @@ void bind_stereo(py::module_& m) {
                                py::array_t<double> planes({6, 4});
                                for (int i = 0; i < 24; ++i) planes.mutable_data()[i] = c.planes[i / 4][i % 4];
                                return planes;
-                             })
-      .def("contains", &CullingFrustum::contains, py::arg("x"), py::arg("y"), py::arg("z"), py::arg("slack") = 0.0);
-  m.def("stereo_culling_frustum",
+                             });
+  def_method(culling, "contains", &CullingFrustum::contains, py::arg("x"), py::arg("y"), py::arg("z"),
+             py::arg("slack") = 0.0);
+  def_function(m, "stereo_culling_frustum",
         [](const ViewFrustum& mono, const StereoCamera& camera) {
           CullingFrustum out;
           raise_if_failed(stereo_culling_frustum(mono, camera, &out));
@@ -150,14 +155,15 @@ void bind_stereo(py::module_& m) {
       .def_readonly("right_x", &PickResult::right_x)
       .def_readonly("left_parallax", &PickResult::left_parallax)
       .def_readonly("right_parallax", &PickResult::right_parallax);
-  m.def("pick",
+  def_function(m, "pick",
         [](const py::array& left_depth, const py::array& right_depth, const DepthDecoder& decoder,
            const ParallaxModel& left_to_right, double cursor_x, int cursor_y,
-           std::optional<float> max_negative_parallax, float hole_threshold, float agreement) {
+           std::optional<double> max_negative_parallax, double hole_threshold, double agreement) {
           PickOptions options;
-          options.max_negative_parallax = max_negative_parallax;
-          options.hole_threshold = hole_threshold;
-          options.agreement = agreement;
+          if (max_negative_parallax)
+            options.max_negative_parallax = float_argument(*max_negative_parallax, "max_negative_parallax");
+          options.hole_threshold = float_argument(hole_threshold, "hole_threshold");
+          options.agreement = float_argument(agreement, "agreement");
           PickResult out;
           raise_if_failed(pick(depth_view(left_depth, "left_depth"), depth_view(right_depth, "right_depth"), decoder,
                                left_to_right, cursor_x, cursor_y, options, &out));
@@ -165,10 +171,11 @@ void bind_stereo(py::module_& m) {
         },
         py::arg("left_depth"), py::arg("right_depth"), py::arg("decoder"), py::arg("left_to_right"),
         py::arg("cursor_x"), py::arg("cursor_y"), py::kw_only(), py::arg("max_negative_parallax") = py::none(),
-        py::arg("hole_threshold") = 1.0f, py::arg("agreement") = 0.25f);
+        py::arg("hole_threshold") = 1.0, py::arg("agreement") = 0.25);
 
   // 4. Screen -> view reconstruction
-  py::class_<ScreenToView>(m, "ScreenToView", "Scale and bias constants of one frustum and viewport.")
+  py::class_<ScreenToView> screen_to_view_class(m, "ScreenToView", "Scale and bias constants of one frustum and viewport.");
+  screen_to_view_class
       .def_readonly("orthographic", &ScreenToView::orthographic)
       .def_readonly("width", &ScreenToView::width)
       .def_readonly("height", &ScreenToView::height)
@@ -178,14 +185,14 @@ void bind_stereo(py::module_& m) {
       .def_readonly("y_bias", &ScreenToView::y_bias)
       .def_readonly("decoder", &ScreenToView::decoder)
       .def_readonly("z_scale", &ScreenToView::z_scale)
-      .def_readonly("z_bias", &ScreenToView::z_bias)
-      .def("at_pixel",
-           [](const ScreenToView& s, float x, float y, float stored) {
-             const ViewPoint p = s.at_pixel(x, y, stored);
-             return py::make_tuple(p.x, p.y, p.z);
-           },
-           py::arg("pixel_x"), py::arg("pixel_y"), py::arg("stored"));
-  m.def("make_screen_to_view",
+      .def_readonly("z_bias", &ScreenToView::z_bias);
+  def_method(screen_to_view_class, "at_pixel",
+             [](const ScreenToView& s, float x, float y, float stored) {
+               const ViewPoint p = s.at_pixel(x, y, stored);
+               return py::make_tuple(p.x, p.y, p.z);
+             },
+             py::arg("pixel_x"), py::arg("pixel_y"), py::arg("stored"));
+  def_function(m, "make_screen_to_view",
         [](const ViewFrustum& frustum, const std::string& encoding, int width, int height) {
           DepthEncoding e{};
           if (!parse_encoding(encoding.c_str(), &e)) throw py::value_error("unknown encoding '" + encoding + "'");
@@ -194,7 +201,7 @@ void bind_stereo(py::module_& m) {
           return out;
         },
         py::arg("frustum"), py::arg("encoding"), py::arg("width"), py::arg("height"));
-  m.def("screen_to_view",
+  def_function(m, "screen_to_view",
         [](const ScreenToView& reconstruction, const py::array& depth, const py::object& out_x,
            const py::object& out_y, const py::object& out_z) {
           const FloatPlane d = depth_view(depth, "depth");
@@ -214,7 +221,7 @@ void bind_stereo(py::module_& m) {
         "View-space x, y, z at every pixel centre of depth: a tuple of three (H, W) arrays.");
 
   // 5. 2D elements at a depth
-  m.def("place_at_depth",
+  def_function(m, "place_at_depth",
         [](double ndc_x, double ndc_y, double z, const StereoCamera& camera, const DepthDecoder& decoder) {
           ClipPosition left, right;
           raise_if_failed(place_at_depth(ndc_x, ndc_y, z, camera, decoder, &left, &right));
@@ -224,7 +231,7 @@ void bind_stereo(py::module_& m) {
         "The left and right eyes' clip positions (x, y, z, w) of an element at mono NDC (x, y) seen at depth z.");
 
   // 6. Halo pre-filter
-  m.def("dilate_nearer_depth",
+  def_function(m, "dilate_nearer_depth",
         [](const py::array& depth, const DepthDecoder& decoder, int radius, const py::object& out) {
           const FloatPlane d = depth_view(depth, "depth");
           MutableFloatPlane o;

@@ -1,5 +1,7 @@
 #include "imageio/file_util.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -95,11 +97,56 @@ InputFile::~InputFile() {
   if (file_ != nullptr) std::fclose(file_);
 }
 
+namespace {
+
+const char* file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+}  // namespace
+
+IoStatus refuse_standard_input(const std::string& path) {
+  if (path != "-") return {};
+  return failure(IoError::unsupported, "'-' is not a regular file (standard input is not read): inputs are read from "
+                                       "regular files only; ./- names a file called -");
+}
+
 IoStatus InputFile::open(const std::string& path) {
+  // Only regular files are read: their size is known before a byte is read (the readers check
+  // headers against it), and reading one never blocks. A FIFO nobody writes to would block open()
+  // itself, so the file is opened without blocking and its type checked before anything else.
+  if (IoStatus status = refuse_standard_input(path); !status) return status;
   errno = 0;
-  file_ = std::fopen(path.c_str(), "rb");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    const int code = errno;
+    return failure(IoError::open_failed, "cannot open " + quote_path(path) + ": " +
+                                             (code != 0 ? system_error_text(code) : "unknown error"));
+  }
+  struct stat info = {};
+  if (::fstat(fd, &info) != 0) {
+    const int code = errno;
+    ::close(fd);
+    return read_error(path, code);
+  }
+  if (!S_ISREG(info.st_mode)) {
+    ::close(fd);
+    return failure(S_ISDIR(info.st_mode) ? IoError::read_failed : IoError::unsupported,
+                   quote_path(path) + " is not a regular file (" + file_kind(info.st_mode) +
+                       "): inputs are read from regular files only");
+  }
+  // A regular file's reads never block; the flag is cleared anyway, so that the FILE reads as usual.
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags != -1) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  file_ = ::fdopen(fd, "rb");
   if (file_ == nullptr) {
     const int code = errno;
+    ::close(fd);
     return failure(IoError::open_failed, "cannot open " + quote_path(path) + ": " +
                                              (code != 0 ? system_error_text(code) : "unknown error"));
   }

@@ -22,6 +22,11 @@ std::string size_text(int width, int height);
 // Larger images are refused (unsupported) instead of attempting multi-GiB allocations.
 constexpr unsigned long long kMaxPixels = 1ULL << 28;
 
+// unsupported for the path "-": the readers do not take standard input (docs/CLI.md).
+IoStatus refuse_standard_input(const std::string& path);
+
+// An input file, opened only when it is a regular file: anything else (a FIFO, a device, a
+// directory, "-") is refused before a byte is read, and opening never blocks (docs/CLI.md).
 // Closes on destruction.
 class InputFile {
  public:

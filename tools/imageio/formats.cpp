@@ -19,6 +19,12 @@ IoStatus unknown_extension(const std::string& path) {
                  quote_path(path) + ": unknown image file extension (.png, .pfm or .exr)");
 }
 
+// An input whose name says no format: "-" (standard input, which is not read) or another extension.
+IoStatus unknown_input(const std::string& path) {
+  if (IoStatus status = detail::refuse_standard_input(path); !status) return status;
+  return unknown_extension(path);
+}
+
 IoStatus read_image_file(const std::string& path, LoadedImage* out) {
   switch (format_from_path(path)) {
     case FileFormat::png: return read_png(path, out);
@@ -27,7 +33,7 @@ IoStatus read_image_file(const std::string& path, LoadedImage* out) {
     case FileFormat::unknown: break;
   }
   *out = LoadedImage{};
-  return unknown_extension(path);
+  return unknown_input(path);
 }
 
 // A depth read through the colour readers must be one grey plane.
@@ -53,7 +59,7 @@ IoStatus read_depth_file(const std::string& path, LoadedImage* out) {
     case FileFormat::unknown: break;
   }
   *out = LoadedImage{};
-  return unknown_extension(path);
+  return unknown_input(path);
 }
 
 // The header phase of read_image_file / read_depth_file: the same errors, no pixel decoded.
@@ -65,7 +71,7 @@ IoStatus read_info_file(const std::string& path, bool depth, ImageInfo* out) {
     case FileFormat::png: status = detail::read_png_info(path, out); what = "PNG (grey)"; break;
     case FileFormat::pfm: status = detail::read_pfm_info(path, out); what = "PFM (Pf)"; break;
     case FileFormat::exr: return detail::read_exr_info(path, depth, out);
-    case FileFormat::unknown: return unknown_extension(path);
+    case FileFormat::unknown: return unknown_input(path);
   }
   if (status && depth && out->channels != 1) {
     const int channels = out->channels;
