@@ -221,7 +221,8 @@ TEST(PairDecode, LeftEyeIsTheNegatedRightEyeBitForBit) {
       // Threads and fuzz_reproject compare such pairs with single calls.)
       const ParallaxModel left{-right.a, -right.b};
       SourceView source;
-      source.depth = FloatPlane{depth.data(), width, 1, width};
+      // plan_frame takes the normalised views of src/validate.hpp: depth as a depth buffer.
+      source.depth_buffer = DepthBuffer::of(DepthFormat::float32, depth.data(), width, 1, width * 4);
       source.color = ColorView::planar({FloatPlane{color.data(), width, 1, width}});
       TargetView target;
       target.color = MutableColorView::planar({MutableFloatPlane{out.data(), width, 1, width}});
