@@ -31,7 +31,7 @@ struct Frame {
   int height = 0;
   int guard = 0;
 
-  // Parallax decode: affine p = fma(decode_scale, d, decode_offset) (b A and a + b B, §4);
+  // Parallax decode: affine p = fma(decode_scale, d, decode_offset) (b A and a + b B, DESIGN §3–§4);
   // reciprocal p = fma(b, 1/d, a).
   bool affine = true;
   float decode_scale = 0.0f;

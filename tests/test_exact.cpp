@@ -1,4 +1,4 @@
-// Test groups 3 and 4 of the core issue: the forward sweep (`exact`) against the plain gather
+// The forward sweep (`exact`) against the plain gather
 // oracle of DESIGN §5 on random piecewise-planar rows, and `scanline` against `exact`.
 #include <gtest/gtest.h>
 
