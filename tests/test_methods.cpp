@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "reproject/reproject.hpp"
+#include "support/arch_report.hpp"
 #include "support/rows.hpp"
 
 namespace {
@@ -275,7 +276,7 @@ class BodyAndTail : public ::testing::TestWithParam<reproject::Arch> {};
 
 TEST_P(BodyAndTail, ZeroThresholdSeesNoWallOnFlatOrSlantedPlanes) {
   const reproject::Arch arch = GetParam();
-  if (!reproject::arch_supported(arch)) GTEST_SKIP() << reproject::to_string(arch) << " is not supported by this CPU";
+  if (!reproject::arch_supported(arch)) GTEST_SKIP() << reproject::not_run_reason(arch);
   const int widths[] = {3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 32, 33, 63, 64, 65, 127, 128, 129};
   long runs = 0, walls = 0;
   for (int width : widths) {
@@ -313,8 +314,7 @@ TEST_P(BodyAndTail, ZeroThresholdSeesNoWallOnFlatOrSlantedPlanes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryArch, BodyAndTail,
-                         ::testing::Values(reproject::Arch::scalar, reproject::Arch::sse, reproject::Arch::avx2,
-                                           reproject::Arch::avx512),
+                         ::testing::ValuesIn(reproject::every_arch()),
                          [](const ::testing::TestParamInfo<reproject::Arch>& info) {
                            return std::string(reproject::to_string(info.param));
                          });

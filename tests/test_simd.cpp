@@ -112,7 +112,7 @@ class SimdMatchesScalar : public ::testing::TestWithParam<Arch> {};
 
 TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
   const Arch arch = GetParam();
-  if (!arch_supported(arch)) GTEST_SKIP() << to_string(arch) << " is not supported by this CPU";
+  if (!arch_supported(arch)) GTEST_SKIP() << not_run_reason(arch);
   const detail::KernelTable& simd = *detail::compiled_kernels(arch);
   const detail::KernelTable& reference = detail::reference_kernels(arch);
 #if defined(__GNUC__)  // GCC and Clang builds compile the AVX2 + FMA copy of the scalar references
@@ -195,7 +195,7 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
 // Arch::scalar: the scalar references built with AVX2 + FMA flags (what Arch::scalar runs on such
 // CPUs) against the baseline build, which every other table is held to.
 INSTANTIATE_TEST_SUITE_P(EveryArch, SimdMatchesScalar,
-                         ::testing::Values(Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512),
+                         ::testing::ValuesIn(every_arch()),
                          [](const ::testing::TestParamInfo<Arch>& info) { return std::string(to_string(info.param)); });
 
 // reproject_pair decodes each row once, for the right eye, and gives the left eye (the mirror
@@ -311,7 +311,7 @@ TEST(Dispatch, SelectedArchIsSupportedAndNamed) {
 }
 
 TEST(Dispatch, UnsupportedArchIsAnError) {
-  for (Arch arch : {Arch::sse, Arch::avx2, Arch::avx512}) {
+  for (Arch arch : every_simd_arch()) {
     if (arch_supported(arch)) continue;
     float depth = 1.0f, color = 0.0f, out = 0.0f;
     SourceView source;
