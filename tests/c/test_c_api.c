@@ -442,6 +442,35 @@ static void format_errors(void) {
   CHECK(reproject_warp_pair_buffers(&s, NULL, NULL, NULL, &t, &t, NULL) == REPROJECT_NULL_POINTER, "null decoder");
   CHECK(strstr(reproject_last_error_message(), "reproject_warp_pair_buffers") != NULL, "%s",
         reproject_last_error_message());
+  {
+    /* Each entry point names itself and the first null argument, in the order of its parameters. */
+    const reproject_source fs = source_of();
+    reproject_target ft = target_of(&c_out);
+    reproject_decoder d;
+    reproject_parallax m;
+    reproject_options o;
+    reproject_decoder_from_near_far(REPROJECT_DEPTH_STANDARD, kNear, kFar, &d);
+    reproject_parallax_from_stereo(0.03, 4.0, W, REPROJECT_CENTRE_TO_RIGHT, &m);
+    reproject_options_init(&o);
+    CHECK(reproject_warp(&fs, NULL, &m, NULL, &ft, NULL) == REPROJECT_NULL_POINTER, "warp: null decoder");
+    CHECK(strcmp(reproject_last_error_message(), "reproject_warp: decoder is null (source, decoder, model, options "
+                 "and target are required)") == 0, "%s", reproject_last_error_message());
+    CHECK(reproject_warp(&fs, &d, &m, &o, NULL, NULL) == REPROJECT_NULL_POINTER, "warp: null target");
+    CHECK(strstr(reproject_last_error_message(), "reproject_warp: target is null") != NULL, "%s",
+          reproject_last_error_message());
+    CHECK(reproject_warp_pair(&fs, &d, NULL, &o, &ft, &ft, NULL) == REPROJECT_NULL_POINTER, "pair: null model");
+    CHECK(strcmp(reproject_last_error_message(), "reproject_warp_pair: centre_to_right is null (centre, decoder, "
+                 "model, options, left and right are required)") == 0, "%s", reproject_last_error_message());
+    CHECK(reproject_warp_pair(&fs, &d, &m, &o, &ft, NULL, NULL) == REPROJECT_NULL_POINTER, "pair: null right");
+    CHECK(strstr(reproject_last_error_message(), "reproject_warp_pair: right is null") != NULL, "%s",
+          reproject_last_error_message());
+    CHECK(reproject_warp_buffers(&s, &d, &m, NULL, &t, NULL) == REPROJECT_NULL_POINTER, "buffers: null options");
+    CHECK(strcmp(reproject_last_error_message(), "reproject_warp_buffers: options is null (source, decoder, model, "
+                 "options and target are required)") == 0, "%s", reproject_last_error_message());
+    CHECK(reproject_warp_pair_buffers(&s, &d, &m, &o, NULL, &t, NULL) == REPROJECT_NULL_POINTER, "pair: null left");
+    CHECK(strcmp(reproject_last_error_message(), "reproject_warp_pair_buffers: left is null (centre, decoder, model, "
+                 "options, left and right are required)") == 0, "%s", reproject_last_error_message());
+  }
 
   /* Names of the format values. */
   CHECK(strcmp(reproject_color_format_name(REPROJECT_COLOR_RGBA8_SRGB), "rgba8_srgb") == 0, "colour format name");
