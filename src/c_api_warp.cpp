@@ -106,6 +106,14 @@ reproject_status warp_both(const char* function, const Source* centre, const rep
   return warp(buffers_of(*centre), *decoder, *centre_to_right, options, &left_buffers, buffers_of(*right), jobs);
 }
 
+// A C value as the name of the C++ enum E. The enums hold 0..255: a value beyond cannot be cast
+// (256 would wrap onto 0's name), so it is "unknown" here; inside, to_string gives "unknown" for a
+// value no enumerator has (src/names.hpp), so every name function answers alike.
+template <class E>
+const char* name_of(std::int32_t value) noexcept {
+  return fits_enum(value) ? to_string(static_cast<E>(value)) : "unknown";
+}
+
 }  // namespace
 }  // namespace c_abi
 }  // namespace reproject
@@ -119,25 +127,12 @@ int32_t reproject_abi_version(void) { return REPROJECT_C_ABI_VERSION; }
 
 const char* reproject_last_error_message(void) { return last_message; }
 
-const char* reproject_status_name(reproject_status status) {
-  if (status < REPROJECT_OK || status > REPROJECT_CANCELLED) return "?";
-  return to_string(static_cast<StatusCode>(status));
-}
-const char* reproject_method_name(int32_t method) {
-  return method >= 0 && method < kMethodCount ? to_string(static_cast<Method>(method)) : "?";
-}
-const char* reproject_arch_name(int32_t arch) {
-  return arch >= 0 && arch < kArchCount ? to_string(static_cast<Arch>(arch)) : "?";
-}
-const char* reproject_encoding_name(int32_t encoding) {
-  return encoding >= 0 && encoding <= REPROJECT_DEPTH_DISPARITY ? to_string(static_cast<DepthEncoding>(encoding)) : "?";
-}
-const char* reproject_color_format_name(int32_t format) {
-  return format >= 0 && format < kColorFormatCount ? to_string(static_cast<ColorFormat>(format)) : "?";
-}
-const char* reproject_depth_format_name(int32_t format) {
-  return format >= 0 && format < kDepthFormatCount ? to_string(static_cast<DepthFormat>(format)) : "?";
-}
+const char* reproject_status_name(reproject_status status) { return name_of<StatusCode>(status); }
+const char* reproject_method_name(int32_t method) { return name_of<Method>(method); }
+const char* reproject_arch_name(int32_t arch) { return name_of<Arch>(arch); }
+const char* reproject_encoding_name(int32_t encoding) { return name_of<DepthEncoding>(encoding); }
+const char* reproject_color_format_name(int32_t format) { return name_of<ColorFormat>(format); }
+const char* reproject_depth_format_name(int32_t format) { return name_of<DepthFormat>(format); }
 
 reproject_status reproject_warp(const reproject_source* source, const reproject_decoder* decoder,
                                 const reproject_parallax* model, const reproject_options* options,

@@ -475,11 +475,29 @@ static void format_errors(void) {
   /* Names of the format values. */
   CHECK(strcmp(reproject_color_format_name(REPROJECT_COLOR_RGBA8_SRGB), "rgba8_srgb") == 0, "colour format name");
   CHECK(strcmp(reproject_color_format_name(REPROJECT_COLOR_RGBA16F), "rgba16f") == 0, "colour format name");
-  CHECK(strcmp(reproject_color_format_name(4), "?") == 0, "unknown colour format name");
+  CHECK(strcmp(reproject_color_format_name(4), "unknown") == 0, "unknown colour format name");
   CHECK(strcmp(reproject_depth_format_name(REPROJECT_DEPTH_FORMAT_S8_UNORM24), "s8_unorm24") == 0, "depth format name");
   CHECK(strcmp(reproject_depth_format_name(REPROJECT_DEPTH_FORMAT_RGBA8_PACKED_LINEAR), "rgba8_packed_linear") == 0,
         "depth format name");
-  CHECK(strcmp(reproject_depth_format_name(-1), "?") == 0, "unknown depth format name");
+  CHECK(strcmp(reproject_depth_format_name(-1), "unknown") == 0, "unknown depth format name");
+
+  /* Every name function answers an unknown value as the C++ to_string does: "unknown", both for a
+   * value inside the enums' 0..255 that no constant has and for one beyond it (256 + 1 must not
+   * wrap onto 1's name). */
+  CHECK(strcmp(reproject_status_name(REPROJECT_CANCELLED), "cancelled") == 0, "status name");
+  CHECK(strcmp(reproject_status_name(REPROJECT_CANCELLED + 1), "unknown") == 0, "unknown status name");
+  CHECK(strcmp(reproject_status_name(-1), "unknown") == 0, "negative status name");
+  CHECK(strcmp(reproject_status_name(256 + REPROJECT_NULL_POINTER), "unknown") == 0, "status name beyond 255");
+  CHECK(strcmp(reproject_method_name(REPROJECT_METHOD_EXACT), "exact") == 0, "method name");
+  CHECK(strcmp(reproject_method_name(REPROJECT_METHOD_EXACT + 1), "unknown") == 0, "unknown method name");
+  CHECK(strcmp(reproject_arch_name(REPROJECT_ARCH_NEON), "neon") == 0, "arch name");
+  CHECK(strcmp(reproject_arch_name(REPROJECT_ARCH_NEON + 1), "unknown") == 0, "unknown arch name");
+  CHECK(strcmp(reproject_arch_name(REPROJECT_ARCH_AUTO), "unknown") == 0, "REPROJECT_ARCH_AUTO names no arch");
+  CHECK(strcmp(reproject_encoding_name(REPROJECT_DEPTH_DISPARITY), "disparity") == 0, "encoding name");
+  CHECK(strcmp(reproject_encoding_name(255), "unknown") == 0, "unknown encoding name");
+  CHECK(strcmp(reproject_encoding_name(256 + REPROJECT_DEPTH_STANDARD), "unknown") == 0, "encoding name beyond 255");
+  CHECK(strcmp(reproject_color_format_name(256 + REPROJECT_COLOR_RGBA8), "unknown") == 0, "colour name beyond 255");
+  CHECK(strcmp(reproject_depth_format_name(1000), "unknown") == 0, "depth format name beyond 255");
 }
 
 /* Every method, one eye and the pair, at threads 1 and 2 and through the job-system hook: the
