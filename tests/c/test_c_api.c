@@ -298,6 +298,14 @@ static int hits(const uint8_t* status) {
   return count;
 }
 
+/* A valid decoder, model (eye direction `direction`) and default options for one call. */
+static void good_arguments(reproject_decoder* decoder, reproject_parallax* model, int32_t direction,
+                           reproject_options* options) {
+  reproject_decoder_from_near_far(REPROJECT_DEPTH_STANDARD, kNear, kFar, decoder);
+  reproject_parallax_from_stereo(0.03, 4.0, W, direction, model);
+  reproject_options_init(options);
+}
+
 /* One bad field at a time on an rgba8 + D24S8 frame: a status code and a message naming it
  * (`words`, not read for REPROJECT_OK: the message is the last failure's). */
 static void expect_refused(const reproject_source_buffers* source, const reproject_target_buffers* target,
@@ -306,9 +314,7 @@ static void expect_refused(const reproject_source_buffers* source, const reproje
   reproject_parallax model;
   reproject_options options;
   reproject_status status;
-  reproject_decoder_from_near_far(REPROJECT_DEPTH_STANDARD, kNear, kFar, &decoder);
-  reproject_parallax_from_stereo(0.03, 4.0, W, REPROJECT_LEFT_TO_RIGHT, &model);
-  reproject_options_init(&options);
+  good_arguments(&decoder, &model, REPROJECT_LEFT_TO_RIGHT, &options);
   status = reproject_warp_buffers(source, &decoder, &model, &options, target, NULL);
   CHECK(status == expected, "%s: status %s, expected %s (%s)", what, reproject_status_name(status),
         reproject_status_name(expected), reproject_last_error_message());
@@ -449,9 +455,7 @@ static void format_errors(void) {
     reproject_decoder d;
     reproject_parallax m;
     reproject_options o;
-    reproject_decoder_from_near_far(REPROJECT_DEPTH_STANDARD, kNear, kFar, &d);
-    reproject_parallax_from_stereo(0.03, 4.0, W, REPROJECT_CENTRE_TO_RIGHT, &m);
-    reproject_options_init(&o);
+    good_arguments(&d, &m, REPROJECT_CENTRE_TO_RIGHT, &o);
     CHECK(reproject_warp(&fs, NULL, &m, NULL, &ft, NULL) == REPROJECT_NULL_POINTER, "warp: null decoder");
     CHECK(strcmp(reproject_last_error_message(), "reproject_warp: decoder is null (source, decoder, model, options "
                  "and target are required)") == 0, "%s", reproject_last_error_message());
