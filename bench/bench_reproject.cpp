@@ -62,7 +62,12 @@ constexpr Size kInCache = {512, 512};
 constexpr int kThreadCounts[] = {1, 2};
 constexpr int kSeparations[] = {8, 32, 128};  // parallax at infinity, pixels
 constexpr Method kMethods[] = {Method::scanline, Method::march16, Method::single, Method::secant, Method::exact};
-constexpr Arch kArchs[] = {Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512};
+// Every instruction set the library names, in its order.
+std::vector<Arch> every_arch() {
+  std::vector<Arch> archs;
+  for (int a = 0; a < kArchCount; ++a) archs.push_back(static_cast<Arch>(a));
+  return archs;
+}
 
 enum class Layout : std::uint8_t {
   planar_rgba,       // 4 float planes
@@ -578,7 +583,7 @@ void register_roofline(Size size, int threads, Layout layout, const std::string&
 
 void register_all() {
   std::vector<Arch> archs;
-  for (Arch arch : kArchs)
+  for (Arch arch : every_arch())
     if (arch_supported(arch)) archs.push_back(arch);
 
   // Every method on every arch at each thread count, from a template case.
@@ -665,7 +670,7 @@ void register_all() {
 
 void add_context() {
   std::string supported;
-  for (Arch arch : kArchs) {
+  for (Arch arch : every_arch()) {
     if (!arch_supported(arch)) continue;
     if (!supported.empty()) supported += ",";
     supported += to_string(arch);

@@ -1,15 +1,22 @@
 # ctest BenchmarkNames: every name reproject_bench registers has the form the benchmark issue fixes,
 # with no suffix of Google Benchmark's own (such as "/real_time"), and the required ones exist.
-#   cmake -DBENCH=<path to reproject_bench> -P check_names.cmake
+#   cmake -DBENCH=<path to reproject_bench> -DARCHES=<scalar|sse|...> [-DEMULATOR=<qemu-aarch64|...>]
+#         -P check_names.cmake
+# (ARCHES: the instruction sets the library names, cmake/arches.cmake; EMULATOR: the words that
+# run a cross build's program, separated by |, empty for a native build.)
 cmake_policy(SET CMP0007 NEW)
-execute_process(COMMAND "${BENCH}" --benchmark_list_tests OUTPUT_VARIABLE listing RESULT_VARIABLE result)
+if(NOT ARCHES)
+  message(FATAL_ERROR "check_names.cmake needs -DARCHES=<scalar|sse|...>")
+endif()
+string(REPLACE "|" ";" emulator "${EMULATOR}")
+execute_process(COMMAND ${emulator} "${BENCH}" --benchmark_list_tests OUTPUT_VARIABLE listing RESULT_VARIABLE result)
 if(NOT result EQUAL 0)
   message(FATAL_ERROR "reproject_bench --benchmark_list_tests failed: ${result}")
 endif()
 string(REPLACE "\n" ";" names "${listing}")
 list(FILTER names EXCLUDE REGEX "^$")
 list(LENGTH names count)
-set(method "(pair_)?(scanline|march16|single|secant|exact)/(scalar|sse|avx2|avx512)")
+set(method "(pair_)?(scanline|march16|single|secant|exact)/(${ARCHES})")
 # Engine-native frames: /<colour>+<depth> (rgba32f+float is the float baseline).
 set(format "(rgba32f\\+float|rgba8\\+unorm24_s8|rgba8_srgb\\+float|rgba16f\\+float|rgba8\\+unorm16)")
 foreach(name IN LISTS names)

@@ -27,7 +27,6 @@ import time
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 METHODS = ["scanline", "march16", "single", "secant", "exact"]
-ARCHS = ["scalar", "sse", "avx2", "avx512"]
 SIZES = ["1280x720", "1920x1080", "3840x2160"]
 FULL_HD = "1920x1080"
 SEPARATIONS = [8, 32, 128]
@@ -328,7 +327,9 @@ def write_page(data, json_path, doc_path):
     context = data.get("context", {})
     cpu = run_info.get("cpu") or cpu_info()
     build = run_info.get("build") or (compiler_info(context["executable"]) if context.get("executable") else {})
-    present = [a for a in ARCHS if any(k.split("/")[1:2] == [a] for k in r.rows)]
+    # The instruction sets in the library's order, as the benchmark binary lists the ones it ran.
+    archs = (context.get("reproject_archs") or "").split(",")
+    present = [a for a in archs if any(k.split("/")[1:2] == [a] for k in r.rows)]
     simd = [a for a in present if a != "scalar"]
 
     def best_arch(method, size=FULL_HD, threads=1, suffix=""):

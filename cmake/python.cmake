@@ -3,6 +3,13 @@
 # The module is built for one interpreter: /usr/bin/python3 when it exists (Debian's, the one
 # python3-numpy and python3-pytest install into), not whichever python3 is first on PATH (a pyenv
 # or virtualenv one would find neither). -DPython3_EXECUTABLE=... picks another.
+# Not when cross compiling: the module would be built for the target, and the host's interpreter
+# (which runs its tests and finds its headers) cannot load it.
+if(CMAKE_CROSSCOMPILING)
+  message(STATUS "reproject Python module: not built when cross compiling (for ${CMAKE_SYSTEM_PROCESSOR}); "
+                 "configure with -DREPROJECT_BUILD_PYTHON=OFF to say so")
+  return()
+endif()
 if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
   set(Python3_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "The Python the module is built for")
 endif()

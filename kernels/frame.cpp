@@ -17,26 +17,13 @@ float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi)
 
 }  // namespace
 
-// The source's depth, or a target's output depth, as a depth buffer: a float plane is float32
-// with its stride in bytes (validation allows one of the two, src/reproject.cpp).
-DepthBuffer depth_buffer_of(const SourceView& view) {
-  if (view.depth_buffer.data != nullptr) return view.depth_buffer;
-  return DepthBuffer::of(DepthFormat::float32, view.depth.data, view.depth.width, view.depth.height,
-                         view.depth.stride * static_cast<std::ptrdiff_t>(sizeof(float)));
-}
-MutableDepthBuffer depth_buffer_of(const TargetView& view) {
-  if (view.depth_buffer.data != nullptr) return view.depth_buffer;
-  return MutableDepthBuffer::of(DepthFormat::float32, view.depth.data, view.depth.width, view.depth.height,
-                                view.depth.stride * static_cast<std::ptrdiff_t>(sizeof(float)));
-}
-
 Frame plan_frame(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                  const Options& options, const TargetView& target) {
   Frame f;
   f.source = source;
   f.target = target;
-  f.depth = depth_buffer_of(source);
-  f.depth_out = depth_buffer_of(target);
+  f.depth = source.depth_buffer;
+  f.depth_out = target.depth_buffer;
   f.color_format = source.color.format;
   if (f.color_format == ColorFormat::rgba8_srgb) f.srgb = &srgb_tables();
   f.packed_near = f.depth.linear_near;

@@ -31,7 +31,7 @@ struct Frame {
   int height = 0;
   int guard = 0;
 
-  // Parallax decode: affine p = fma(decode_scale, d, decode_offset) (b A and a + b B, §4);
+  // Parallax decode: affine p = fma(decode_scale, d, decode_offset) (b A and a + b B, DESIGN §3–§4);
   // reciprocal p = fma(b, 1/d, a).
   bool affine = true;
   float decode_scale = 0.0f;
@@ -82,12 +82,8 @@ struct RowScratch {
   const float* parallax = nullptr;  // column 0 of the padded row
 };
 
-// The source's depth, or a target's output depth, as a depth buffer: `depth_buffer` when its
-// data is set, else the float plane as float32 with its stride in bytes (validation allows one).
-DepthBuffer depth_buffer_of(const SourceView& view);
-MutableDepthBuffer depth_buffer_of(const TargetView& view);
-
-// The plan from validated inputs, without the near limit when near_pass_needed() (Options::
+// The plan from validated, normalised views (src/validate.hpp, CallViews: the depth and the
+// output depth as depth buffers, unwanted outputs cleared), without the near limit when near_pass_needed() (Options::
 // max_negative_parallax unset, and a method that searches from the near end): the caller then
 // reduces nearest_key_in_rows() (kernels/rows.hpp) over every row (with std::max, starting from
 // key_far, rows in order) and passes the result to set_near_key(). With the option set the plan

@@ -68,7 +68,7 @@ void resolve_pixels(const Frame& f, int y, const RowScratch& scratch, int t_begi
       j1 = std::min(j0 + 1, last);
       frac = x - static_cast<float>(j0);
       if (parallax[j1] - parallax[j0] > f.hole_threshold) {
-        // A wall (§5): the farther endpoint has the smaller key s * p.
+        // A wall (DESIGN §5): the farther endpoint has the smaller key s * p.
         status = PixelStatus::hole;
         const bool j1_farther = f.s * parallax[j1] < f.s * parallax[j0];
         const int farther = j1_farther ? j1 : j0;

@@ -70,7 +70,7 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
     const B hole = ((p1 - p0) > tau) & ~(clipped | outside);
     const bool any_hole = xsimd::any(hole);
     if (any_hole) {
-      // A wall (§5): the farther endpoint has the smaller key s * p.
+      // A wall (DESIGN §5): the farther endpoint has the smaller key s * p.
       const B j1_farther = s * p1 < s * p0;
       const F farther = xsimd::select(j1_farther, j1, j0);
       const F nearer = xsimd::select(j1_farther, j0, j1);

@@ -1,7 +1,7 @@
-// The shared depth decoder (DESIGN.md §3).
+// The shared depth decoder (docs/DESIGN.md §3).
 //
 // Every perspective encoding is affine in inverse depth, w = A d + B; linear depth is the one
-// reciprocal shape, w = 1 / d. A and B come from n and f in double, in the very form of the §3 table
+// reciprocal shape, w = 1 / d. A and B come from n and f in double, in the very form of the DESIGN §3 table
 // (never by inverting a concatenated matrix, which loses the far end), and are rounded to float once.
 #include "reproject/depth.hpp"
 
@@ -56,7 +56,7 @@ bool uses_near(DepthEncoding e) noexcept {
   return uses_far(e) || e == DepthEncoding::reversed_infinite || e == DepthEncoding::infinite;
 }
 
-// A and B of w = A d + B in double, exactly as the §3 table writes w. For linear (the reciprocal
+// A and B of w = A d + B in double, exactly as the DESIGN §3 table writes w. For linear (the reciprocal
 // shape) both are 0, as the header promises. n and f must already be valid for the encoding.
 void affine_coefficients(DepthEncoding e, double n, double f, double* A, double* B) noexcept {
   switch (e) {
@@ -252,7 +252,7 @@ Status DepthDecoder::validate() const noexcept {
 }
 
 float DepthDecoder::inverse_depth(float d) const noexcept {
-  // One fused multiply-add, the same rounding the kernels use (BEHAVIOUR.md: parallax decode).
+  // One fused multiply-add, the same rounding the kernels use (docs/BEHAVIOUR.md: parallax decode).
   if (is_affine()) return std::fma(A_, d, B_);
   return 1.0f / d;
 }

@@ -1,4 +1,4 @@
-// The parallax model and the stereo camera (DESIGN.md §4): p(w) = a + b w pixels.
+// The parallax model and the stereo camera (docs/DESIGN.md §4): p(w) = a + b w pixels.
 #include "reproject/parallax.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// The shared depth decoder (DESIGN.md §3, include/reproject/depth.hpp).
+// The shared depth decoder (docs/DESIGN.md §3, include/reproject/depth.hpp).
 //
 // Tolerances. Depth buffers are float, so the stored value itself is rounded (relative 2^-24) and
 // the decode w = A d + B cancels for the forward encodings (standard, gl_ndc, infinite) where
@@ -290,7 +290,7 @@ TEST(DepthDecoder, RoundTripOverNearFar) {
   }
 }
 
-// A and B are the §3 table's coefficients in double rounded once, and the decode is exactly the
+// A and B are the DESIGN §3 table's coefficients in double rounded once, and the decode is exactly the
 // fused affine map (bit for bit), also outside [near, far].
 TEST(DepthDecoder, AffineCoefficientsAreTheDesignFormulas) {
   for (const NearFar& p : kPairs) {

@@ -1,4 +1,4 @@
-// Test group 8: bad input. Every invalid call returns its specific StatusCode with a message that
+// Bad input. Every invalid call returns its specific StatusCode with a message that
 // names the offending thing, and writes nothing (targets pre-filled with sentinels, sources
 // compared with a copy). Non-finite and out-of-range depth values are not errors: they have a
 // defined result (docs/BEHAVIOUR.md "Non-finite and out-of-range depth"), checked here too.
@@ -545,7 +545,7 @@ TEST(BadInputEmpty, ZeroWidthOrHeightIsOkAndWritesNothing) {
 }
 
 // --------------------------------------------------------------------------------------------
-// Non-finite and out-of-range depth (BEHAVIOUR): NaN, and anything that decodes to w < 0, is
+// Non-finite and out-of-range depth (docs/BEHAVIOUR.md): NaN, and anything that decodes to w < 0, is
 // infinitely far (p = p_far = a); w = +inf (linear depth 0, standard -inf) and anything nearer
 // than L = Ws + 2 pixels is clamped to s L, "the nearest possible".
 // --------------------------------------------------------------------------------------------
@@ -654,7 +654,7 @@ TEST(BadInputDepth, NaNAndFartherThanInfinityActAsInfinitelyFar) {
 // Any other value as near or nearer (1e-30, standard -inf or -1e30) gives the same picture.
 // The decode is shared, so that equivalence holds for every method with default options. The
 // exact picture is asserted for exact and scanline, and for secant with a step cap that allows
-// one-pixel steps over the whole ray (|s L - a| ~ 74 px here): BEHAVIOUR bounds secant's steps to a
+// one-pixel steps over the whole ray (|s L - a| ~ 74 px here): docs/BEHAVIOUR.md "Methods" bounds secant's steps to a
 // pixel only "where possible", and with the default cap of 64 a 1-px spike can be stepped over.
 TEST(BadInputDepth, ZeroLinearDepthIsTheNearestPossible) {
   const int width = 64;

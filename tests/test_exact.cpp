@@ -1,4 +1,4 @@
-// Test groups 3 and 4 of the core issue: the forward sweep (`exact`) against the plain gather
+// The forward sweep (`exact`) against the plain gather
 // oracle of DESIGN §5 on random piecewise-planar rows, and `scanline` against `exact`.
 #include <gtest/gtest.h>
 
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "reproject/reproject.hpp"
+#include "support/arch_report.hpp"
 #include "support/oracle.hpp"
 
 namespace reproject {
@@ -200,7 +201,7 @@ TEST(EdgeModes, ClampBlackMirrorAndNone) {
   source.depth = FloatPlane{depth.data(), width, 1, width};
   source.color = ColorView::planar({FloatPlane{color.data(), width, 1, width}});
   const ParallaxModel model{5.5f, 0.0f};  // x* = t - 5.5 everywhere
-  for (Arch arch : {Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512}) {
+  for (Arch arch : every_arch()) {
     if (!arch_supported(arch)) continue;
     for (EdgeMode edge : {EdgeMode::clamp, EdgeMode::black, EdgeMode::mirror, EdgeMode::none}) {
       std::vector<float> out(width, -1.0f), out_depth(width, -1.0f);

@@ -17,8 +17,10 @@ int main() {
   const reproject::Arch got = reproject::selected_arch();
   if (!reproject::parse_arch(forced, &wanted)) {
     // An unknown name: the best supported set (ctest also requires the library's stderr line).
-    for (reproject::Arch best : {reproject::Arch::avx512, reproject::Arch::avx2, reproject::Arch::sse,
-                                 reproject::Arch::neon, reproject::Arch::scalar}) {
+    // Within each processor family a later Arch is a wider, better set, and one processor runs
+    // the sets of one family only (and scalar): the last supported value is the best.
+    for (int a = reproject::kArchCount - 1; a >= 0; --a) {
+      const reproject::Arch best = static_cast<reproject::Arch>(a);
       if (!reproject::arch_supported(best)) continue;
       if (got != best) return 1;
       std::printf("unknown name '%s': selected the best supported set, %s\n", forced, reproject::to_string(got));

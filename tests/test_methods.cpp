@@ -1,9 +1,9 @@
-// Test groups 5 and 6: every method against answers derived by hand from DESIGN.md §2–§6 and
+// Every method against answers derived by hand from docs/DESIGN.md §2–§6 and
 // docs/BEHAVIOUR.md, on rows whose geometry is simple enough to solve in closed form (planes,
 // slanted planes, a box on a wall, the viewport edges), and `secant` against `exact` on random
 // smooth rows and thin occluders.
 //
-// Conventions used throughout (BEHAVIOUR "Coordinates"): x is in source columns, t' = t + guard,
+// Conventions used throughout (docs/BEHAVIOUR.md "Coordinates"): x is in source columns, t' = t + guard,
 // p(w) = a + b w, s = sign(b) (-1 when b <= 0), key s * p grows towards the viewer. Source colour
 // channel 0 is the column index, so an output colour is the source x it was read at.
 #include <gtest/gtest.h>
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "reproject/reproject.hpp"
+#include "support/arch_report.hpp"
 #include "support/rows.hpp"
 
 namespace {
@@ -275,7 +276,7 @@ class BodyAndTail : public ::testing::TestWithParam<reproject::Arch> {};
 
 TEST_P(BodyAndTail, ZeroThresholdSeesNoWallOnFlatOrSlantedPlanes) {
   const reproject::Arch arch = GetParam();
-  if (!reproject::arch_supported(arch)) GTEST_SKIP() << reproject::to_string(arch) << " is not supported by this CPU";
+  if (!reproject::arch_supported(arch)) GTEST_SKIP() << reproject::not_run_reason(arch);
   const int widths[] = {3, 4, 5, 7, 8, 9, 15, 16, 17, 31, 32, 33, 63, 64, 65, 127, 128, 129};
   long runs = 0, walls = 0;
   for (int width : widths) {
@@ -313,8 +314,7 @@ TEST_P(BodyAndTail, ZeroThresholdSeesNoWallOnFlatOrSlantedPlanes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryArch, BodyAndTail,
-                         ::testing::Values(reproject::Arch::scalar, reproject::Arch::sse, reproject::Arch::avx2,
-                                           reproject::Arch::avx512),
+                         ::testing::ValuesIn(reproject::every_arch()),
                          [](const ::testing::TestParamInfo<reproject::Arch>& info) {
                            return std::string(reproject::to_string(info.param));
                          });
@@ -581,7 +581,7 @@ TEST(AnalyticStep, HoleThresholdAroundTheTearSize) {
 }
 
 // --------------------------------------------------------------------------------------------
-// march16 and single on the box: their answers are fully specified by BEHAVIOUR (point samples at
+// march16 and single on the box: their answers are fully specified by docs/BEHAVIOUR.md (point samples at
 // index floor(x + 0.5) clamped, the march's sample parallaxes p_k = p_near + k (p_far - p_near)/N,
 // re-projection x = t' - P), so they are re-derived here in double for every pixel; pixels where a
 // rounding tie could go either way are skipped.
@@ -810,7 +810,7 @@ TEST(AnalyticEdge, GuardBandRemovesOutsidePixels) {
 // Clipping. With Options::max_negative_parallax = m the ray of t' starts at x_near = t' - s m and
 // is clipped when the surface there is strictly nearer: s P(x_near) > m (P interpolated, clamped
 // beyond the row). Then x* = x_near and colour/depth are interpolated there. march16 and single
-// decide with their point sample (BEHAVIOUR) and re-project with it.
+// decide with their point sample (docs/BEHAVIOUR.md) and re-project with it.
 // --------------------------------------------------------------------------------------------
 
 TEST(AnalyticClip, ClippedExactlyWhereTheNearEndIsBehindTheSurface) {

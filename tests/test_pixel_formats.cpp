@@ -5,7 +5,6 @@
 //  * every method x format against the float path on the same frame: identical status and
 //    source x, colour and depth within 1 LSB of the float result rounded into the format.
 #include <gtest/gtest.h>
-#include <immintrin.h>
 
 #include <cmath>
 #include <cstdint>
@@ -19,6 +18,14 @@
 #include "kernels/frame.hpp"
 #include "src/reproject_internal.hpp"
 #include "reproject/reproject.hpp"
+#include "support/arch_report.hpp"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
+#include <immintrin.h>
+#elif defined(__aarch64__)
+#include <arm_neon.h>
+#endif
 
 namespace reproject {
 namespace {
@@ -36,33 +43,61 @@ std::uint32_t float_bits(float f) {
 
 // ---- conversions ----------------------------------------------------------------------------
 
-__attribute__((target("f16c"))) float f16c_to_float(std::uint16_t h) {
+// The processor's own half-float conversions, which the library's software ones (the scalar
+// references, and every set without a hardware conversion) must equal bit for bit: F16C on x86,
+// where not every CPU has it; FCVTL/FCVTN on AArch64, where every processor has them (with the
+// default FPCR: IEEE halves, round to nearest even, subnormals kept, NaN payloads kept).
+#if defined(__x86_64__) || defined(__i386__)
+const char* const kHardwareHalf = "F16C";
+bool hardware_half_available() {
+  // F16C's instructions are VEX-encoded: usable only where AVX is, which includes the operating
+  // system's support for the AVX state (GCC's and Clang's "avx" check XGETBV too).
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  return __builtin_cpu_supports("avx") && __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C) != 0;
+}
+__attribute__((target("f16c"))) float hardware_half_to_float(std::uint16_t h) {
   return _mm_cvtss_f32(_mm_cvtph_ps(_mm_cvtsi32_si128(h)));
 }
-__attribute__((target("f16c"))) std::uint16_t f16c_to_half(float f) {
+__attribute__((target("f16c"))) std::uint16_t hardware_float_to_half(float f) {
   return static_cast<std::uint16_t>(_mm_extract_epi16(_mm_cvtps_ph(_mm_set_ss(f), _MM_FROUND_TO_NEAREST_INT), 0));
 }
+#elif defined(__aarch64__)
+const char* const kHardwareHalf = "AArch64 FCVTL/FCVTN";
+bool hardware_half_available() { return true; }
+float hardware_half_to_float(std::uint16_t h) {
+  return vgetq_lane_f32(vcvt_f32_f16(vreinterpret_f16_u16(vdup_n_u16(h))), 0);
+}
+std::uint16_t hardware_float_to_half(float f) {
+  return vget_lane_u16(vreinterpret_u16_f16(vcvt_f16_f32(vdupq_n_f32(f))), 0);
+}
+#else
+const char* const kHardwareHalf = nullptr;
+bool hardware_half_available() { return false; }
+float hardware_half_to_float(std::uint16_t) { return 0.0f; }
+std::uint16_t hardware_float_to_half(float) { return 0; }
+#endif
 
-TEST(PixelFormats, HalfConversionsMatchF16C) {
-  if (!__builtin_cpu_supports("f16c")) GTEST_SKIP() << "no F16C on this CPU to compare with";
+TEST(PixelFormats, HalfConversionsMatchTheProcessor) {
+  if (kHardwareHalf == nullptr) GTEST_SKIP() << "no hardware half-float conversion known on this processor to compare with";
+  if (!hardware_half_available()) GTEST_SKIP() << "no " << kHardwareHalf << " on this CPU to compare with";
   long compared = 0;
   for (std::uint32_t h = 0; h < 65536; ++h) {
     const float mine = formats::half_to_float(static_cast<std::uint16_t>(h));
-    ASSERT_EQ(float_bits(mine), float_bits(f16c_to_float(static_cast<std::uint16_t>(h)))) << "half " << h;
+    ASSERT_EQ(float_bits(mine), float_bits(hardware_half_to_float(static_cast<std::uint16_t>(h)))) << "half " << h;
     // Every half's value, and the midpoints around it (the ties), back to half.
     for (std::uint32_t step : {0u, 0x1000u, 0xfffu, 0x1001u, 0x2000u}) {
       const float f = bits_float(float_bits(mine) + step);
-      ASSERT_EQ(formats::float_to_half(f), f16c_to_half(f)) << "float " << f << " bits " << std::hex << float_bits(f);
+      ASSERT_EQ(formats::float_to_half(f), hardware_float_to_half(f)) << "float " << f << " bits " << std::hex << float_bits(f);
       compared += 2;
     }
   }
   std::mt19937 rng(3);
   for (int i = 0; i < 4000000; ++i) {
     const float f = bits_float(static_cast<std::uint32_t>(rng()));
-    ASSERT_EQ(formats::float_to_half(f), f16c_to_half(f)) << "float bits " << std::hex << float_bits(f);
+    ASSERT_EQ(formats::float_to_half(f), hardware_float_to_half(f)) << "float bits " << std::hex << float_bits(f);
     ++compared;
   }
-  std::printf("half: %ld conversions equal to F16C\n", compared);
+  std::printf("half: %ld conversions equal to %s\n", compared, kHardwareHalf);
 }
 
 TEST(PixelFormats, Unorm16EveryCode) {
@@ -387,7 +422,7 @@ class FormatsEveryArch : public ::testing::TestWithParam<Arch> {};
 
 TEST_P(FormatsEveryArch, SimdMatchesScalarAndThreads) {
   const Arch arch = GetParam();
-  if (!arch_supported(arch)) GTEST_SKIP() << to_string(arch) << " is not supported by this CPU";
+  if (!arch_supported(arch)) GTEST_SKIP() << not_run_reason(arch);
   const detail::KernelTable& simd = *detail::compiled_kernels(arch);
   const detail::KernelTable& reference = detail::reference_kernels(arch);
   std::mt19937 rng(static_cast<unsigned>(arch) + 101u);
@@ -434,7 +469,7 @@ TEST_P(FormatsEveryArch, SimdMatchesScalarAndThreads) {
   std::printf("formats: %s: %ld runs bit-identical to the scalar reference\n", to_string(arch), runs);
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryArch, FormatsEveryArch, ::testing::Values(Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512),
+INSTANTIATE_TEST_SUITE_P(EveryArch, FormatsEveryArch, ::testing::ValuesIn(every_arch()),
                          [](const ::testing::TestParamInfo<Arch>& info) { return std::string(to_string(info.param)); });
 
 // The native formats against the float path on the same frame (the float frame holds the values

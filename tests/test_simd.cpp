@@ -112,7 +112,7 @@ class SimdMatchesScalar : public ::testing::TestWithParam<Arch> {};
 
 TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
   const Arch arch = GetParam();
-  if (!arch_supported(arch)) GTEST_SKIP() << to_string(arch) << " is not supported by this CPU";
+  if (!arch_supported(arch)) GTEST_SKIP() << not_run_reason(arch);
   const detail::KernelTable& simd = *detail::compiled_kernels(arch);
   const detail::KernelTable& reference = detail::reference_kernels(arch);
 #if defined(__GNUC__)  // GCC and Clang builds compile the AVX2 + FMA copy of the scalar references
@@ -195,7 +195,7 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
 // Arch::scalar: the scalar references built with AVX2 + FMA flags (what Arch::scalar runs on such
 // CPUs) against the baseline build, which every other table is held to.
 INSTANTIATE_TEST_SUITE_P(EveryArch, SimdMatchesScalar,
-                         ::testing::Values(Arch::scalar, Arch::sse, Arch::avx2, Arch::avx512),
+                         ::testing::ValuesIn(every_arch()),
                          [](const ::testing::TestParamInfo<Arch>& info) { return std::string(to_string(info.param)); });
 
 // reproject_pair decodes each row once, for the right eye, and gives the left eye (the mirror
@@ -221,7 +221,8 @@ TEST(PairDecode, LeftEyeIsTheNegatedRightEyeBitForBit) {
       // Threads and fuzz_reproject compare such pairs with single calls.)
       const ParallaxModel left{-right.a, -right.b};
       SourceView source;
-      source.depth = FloatPlane{depth.data(), width, 1, width};
+      // plan_frame takes the normalised views of src/validate.hpp: depth as a depth buffer.
+      source.depth_buffer = DepthBuffer::of(DepthFormat::float32, depth.data(), width, 1, width * 4);
       source.color = ColorView::planar({FloatPlane{color.data(), width, 1, width}});
       TargetView target;
       target.color = MutableColorView::planar({MutableFloatPlane{out.data(), width, 1, width}});
@@ -310,7 +311,7 @@ TEST(Dispatch, SelectedArchIsSupportedAndNamed) {
 }
 
 TEST(Dispatch, UnsupportedArchIsAnError) {
-  for (Arch arch : {Arch::sse, Arch::avx2, Arch::avx512}) {
+  for (Arch arch : every_simd_arch()) {
     if (arch_supported(arch)) continue;
     float depth = 1.0f, color = 0.0f, out = 0.0f;
     SourceView source;

@@ -1,4 +1,4 @@
-// The parallax model and the stereo camera (DESIGN.md §4, include/reproject/parallax.hpp).
+// The parallax model and the stereo camera (docs/DESIGN.md §4, include/reproject/parallax.hpp).
 //
 // The central check: rendering a point twice, with the left and the right stereo projections built
 // by StereoCamera from a mono matrix, puts its two images exactly p(w) pixels apart, where w is what

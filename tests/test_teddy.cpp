@@ -1,4 +1,4 @@
-// Reprojection of a real stereo pair against its real second view (DESIGN.md §7), and the PNG
+// Reprojection of a real stereo pair against its real second view (docs/DESIGN.md §7), and the PNG
 // reader/writer the test loads it with.
 //
 // Data: Middlebury 2003 "teddy", quarter size (tests/data/README.md). D. Scharstein and

@@ -1,4 +1,4 @@
-// The shared depth decoder (DESIGN.md §3): every encoding reduces to inverse depth w = 1/z as
+// The shared depth decoder (docs/DESIGN.md §3): every encoding reduces to inverse depth w = 1/z as
 //   affine:      w = A * d + B      (standard, gl_ndc, reversed, reversed_infinite, infinite, disparity)
 //   reciprocal:  w = 1 / d          (linear)
 // Kernels are written once per shape, never once per encoding.

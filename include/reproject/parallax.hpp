@@ -1,4 +1,4 @@
-// The parallax model (DESIGN.md §4): a point at inverse depth w seen at source x appears in the
+// The parallax model (docs/DESIGN.md §4): a point at inverse depth w seen at source x appears in the
 // target at x + p(w), with p(w) = a + b w pixels.
 #pragma once
 

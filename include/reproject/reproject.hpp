@@ -1,5 +1,5 @@
 // reproject: synthesise another eye's view from one view (colour + depth) by moving each pixel
-// horizontally by its parallax (DESIGN.md). One entry point; every method shares the decoder, the
+// horizontally by its parallax (docs/DESIGN.md). One entry point; every method shares the decoder, the
 // per-row parallax decode and the resolve stage, so their outputs mean the same thing.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The stereo pipeline around reprojection (DESIGN.md §3, §4, §5): what an engine that synthesises
+// The stereo pipeline around reprojection (docs/DESIGN.md §3, §4, §5): what an engine that synthesises
 // an eye also needs. Each function is independent of the kernels; all of them use the same
 // conventions (view space x right, y up, z forward = the positive distance of DESIGN §3; pixel i
 // of a row has its centre at x = i, DESIGN §2) and the same standard stereo projection (DESIGN §4:
@@ -273,8 +273,8 @@ Status place_at_depth(double ndc_x, double ndc_y, double z, const StereoCamera& 
 // 6. Halo-reduction pre-filter (DESIGN §5)
 
 // out(x, y) = depth(x', y) for the x' in [x - radius, x + radius] (within the row) whose decoded
-// inverse depth w is largest: the nearer surface, for every encoding (larger w = nearer, DESIGN
-// §3); NaN and w < 0 never win (a window of only those keeps its own value); ties keep the leftmost.
+// inverse depth w is largest: the nearer surface, for every encoding (larger w = nearer:
+// DESIGN §3); NaN and w < 0 never win (a window of only those keeps its own value); ties keep the leftmost.
 // Applied to the source depth before reprojection, it moves each silhouette's edge pixels (whose
 // colour is partly foreground, from anti-aliasing, while their depth is the background's) with the
 // foreground, so they no longer land on the background as a halo or seed a hole fill (DESIGN §5's

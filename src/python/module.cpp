@@ -613,10 +613,14 @@ void bind_core(py::module_& m) {
 
   def_function(m, "arch_supported",
                [](const std::string& arch) { return arch_supported(parse_name<Arch>(arch, parse_arch, "arch")); },
-               py::arg("arch"), "Whether the kernels for `arch` (scalar, sse, avx2, avx512) are compiled in and this CPU runs them.");
+               py::arg("arch"), "Whether the kernels for `arch` (one of `arches`) are compiled in and this CPU runs them.");
   m.def("selected_arch", [] { return std::string(to_string(selected_arch())); },
         "The instruction set calls use when arch= is unset (REPROJECT_FORCE_ARCH overrides the choice).");
   m.attr("methods") = py::make_tuple("scanline", "march16", "single", "secant", "exact");
+  // Every instruction set the library names, whether or not this build and CPU run it.
+  py::tuple arches(kArchCount);
+  for (int a = 0; a < kArchCount; ++a) arches[a] = to_string(static_cast<Arch>(a));
+  m.attr("arches") = arches;
 
   m.def("_debug_max_concurrent_calls", [] {
     std::lock_guard<std::mutex> lock(concurrency().mutex);

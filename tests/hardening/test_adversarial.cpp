@@ -7,7 +7,7 @@
 //    a protected page, so every row, not only the first or last, is fenced.
 // Each run checks: the status is ok (or the documented error), every pixel status is one of the
 // four, source_x is finite, each output is what the resolve stage defines for that status (docs/
-// BEHAVIOUR.md), output depth is finite wherever the stored values it comes from are, and the
+// docs/BEHAVIOUR.md), output depth is finite wherever the stored values it comes from are, and the
 // result equals the scalar reference of the instruction set byte for byte (up to NaN payloads
 // where the depth holds NaN).
 #include <gtest/gtest.h>

@@ -53,7 +53,7 @@ double design_inverse_depth(DepthEncoding e, double d, double n, double f) {
   return kNaN;
 }
 
-// BEHAVIOUR.md: NaN and w < 0 are read as infinitely far.
+// docs/BEHAVIOUR.md: NaN and w < 0 are read as infinitely far.
 double readable(double w) { return w >= 0.0 ? w : 0.0; }
 
 // Order statistic at rank q (N - 1), linearly interpolated (the budget's documented definition).

@@ -18,7 +18,7 @@ STEREO = dict(separation=0.08, convergence=3.5)
 COLOURS = ["rgba8", "rgba8_srgb", "rgba16f", "float32"]
 DEPTHS = ["float32", "unorm16", "unorm24_s8", "s8_unorm24", "rgba8_packed_linear"]
 PAIRS = [(c, d) for c in COLOURS for d in DEPTHS]
-ARCHES = [a for a in ("scalar", "sse", "avx2", "avx512") if reproject.arch_supported(a)]
+ARCHES = [a for a in reproject.arches if reproject.arch_supported(a)]
 # scalar, avx2 and avx512 fuse multiply-adds and store the same bits; sse does not fuse, and may
 # differ from them in the last bits (docs/BEHAVIOUR.md "Instruction sets and FMA policy").
 FUSED = [a for a in ARCHES if a != "sse"]

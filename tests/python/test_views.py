@@ -47,7 +47,7 @@ def test_row_step_is_a_view():
     assert_same_result(r, q)
 
 
-ARCHES = [a for a in ("scalar", "sse", "avx2", "avx512") if reproject.arch_supported(a)]
+ARCHES = [a for a in reproject.arches if reproject.arch_supported(a)]
 
 
 @pytest.mark.parametrize("arch", ARCHES)

@@ -121,10 +121,10 @@ struct Encoding {
 // A row's parallax per column in double, from the float values actually stored: p = a + b w.
 std::vector<double> ref_parallax_row(const SourceFrame& source, int y, const Encoding& encoding,
                                      const reproject::ParallaxModel& model);
-// The parallax row interpolated at x, clamped to the edge values beyond the row (BEHAVIOUR P(x)).
+// The parallax row interpolated at x, clamped to the edge values beyond the row (docs/BEHAVIOUR.md "The exact answer").
 double interp_clamped(const std::vector<double>& p, double x);
 
-// The output depth at x (BEHAVIOUR, resolve stage): the stored values interpolated linearly, in
+// The output depth at x (docs/BEHAVIOUR.md, the resolve stage): the stored values interpolated linearly, in
 // 1/d then inverted for linear depth (a plane stays a plane); x clamped to the row.
 double depth_interp(const SourceFrame& source, int y, const Encoding& encoding, double x);
 // A stored depth value of source column `column` of row y, as a double.

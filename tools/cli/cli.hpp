@@ -291,6 +291,9 @@ void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius);
 void check_forced_arch();
 // --arch, checked against this CPU; selected_arch() when absent.
 Arch arch_from_flags(const Flags& flags);
+// Every instruction set the library names, in its order, "scalar, sse, avx2, avx512" (with
+// `last_separator` before the last one), for help texts and messages.
+std::string arch_names(const char* last_separator = ", ");
 // kExitRuntime with the library's message.
 void check_status(const Status& status, const std::string& what);
 

@@ -23,8 +23,6 @@ namespace {
 namespace rs = reproject::scene;
 namespace fs = std::filesystem;
 
-constexpr Method kAllMethods[] = {Method::scanline, Method::march16, Method::single, Method::secant, Method::exact};
-
 // ---- The roofline ---------------------------------------------------------------------------------
 
 // Persistent threads for the roofline loop, so that, like the library's own pool, a timed run
@@ -252,6 +250,7 @@ std::string fmt(const char* format, double v) {
 }  // namespace
 
 int run_compare(int argc, char** argv) {
+  static const std::string arch_help = "instruction set measured: " + arch_names() + " [the best supported]";
   std::vector<Flags::Spec> specs = scene_flags();
   const auto source = source_flags();
   const auto camera = camera_flags(true, true);
@@ -265,7 +264,7 @@ int run_compare(int argc, char** argv) {
       {"methods", "LIST", "comma-separated methods [scanline,march16,single,secant,exact]"},
       {"threads", "LIST", "comma-separated thread counts to time [1,2]"},
       {"repeats", "N", "timed runs per measurement, the median is reported, 1..1000 [5]"},
-      {"arch", "NAME", "instruction set measured: scalar, or sse, avx2, avx512 (x86-64), neon (AArch64) [the best supported]"},
+      {"arch", "NAME", arch_help.c_str()},
       {"json", "FILE", "also write the table as JSON records"},
       {"images", "DIR", "write each method's output, error heat map, status and anaglyph, and methods.png"},
   });

@@ -39,7 +39,18 @@ std::vector<Flags::Spec> camera_flags(bool with_direction, bool with_disparity) 
   return specs;
 }
 
+std::string arch_names(const char* last_separator) {
+  std::string names;
+  for (int a = 0; a < kArchCount; ++a) {
+    if (a > 0) names += a + 1 == kArchCount ? last_separator : ", ";
+    names += to_string(static_cast<Arch>(a));
+  }
+  return names;
+}
+
 std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool with_threads_arch) {
+  // Specs hold C strings: this one lives as long as the program.
+  static const std::string arch_help = "instruction set: " + arch_names(" or ") + " [the best supported]";
   std::vector<Flags::Spec> specs;
   if (with_method) specs.push_back({"method", "NAME", "scanline, march16, single, secant or exact [exact]"});
   specs.insert(specs.end(), {
@@ -58,7 +69,7 @@ std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool wi
   if (with_threads_arch) {
     specs.insert(specs.end(), {
         {"threads", "N", "threads, 0 = one per hardware thread [0]"},
-        {"arch", "NAME", "instruction set: scalar, or sse, avx2, avx512 (x86-64), neon (AArch64) [the best supported]"},
+        {"arch", "NAME", arch_help.c_str()},
     });
   }
   return specs;
@@ -197,7 +208,7 @@ void check_forced_arch() {
   const char* forced = std::getenv("REPROJECT_FORCE_ARCH");
   Arch arch = Arch::scalar;
   if (forced != nullptr && *forced != '\0' && !parse_arch(forced, &arch)) {
-    fail(kExitUsage, std::string("REPROJECT_FORCE_ARCH: unknown instruction set '") + forced + "' (" + enum_names<Arch>(kArchCount) + ")");
+    fail(kExitUsage, std::string("REPROJECT_FORCE_ARCH: unknown instruction set '") + forced + "' (" + arch_names() + ")");
   }
 }
 
@@ -205,12 +216,11 @@ Arch arch_from_flags(const Flags& flags) {
   if (!flags.has("arch")) return selected_arch();
   const std::string name = flags.text("arch");
   Arch arch = Arch::scalar;
-  if (!parse_arch(name.c_str(), &arch)) flags.bad_value("arch", "unknown instruction set '" + name + "' (" + enum_names<Arch>(kArchCount) + ")");
+  if (!parse_arch(name.c_str(), &arch)) flags.bad_value("arch", "unknown instruction set '" + name + "' (" + arch_names() + ")");
   if (!arch_supported(arch)) {
     std::string supported;
-    for (int i = 0; i < kArchCount; ++i) {
-      const Arch a = static_cast<Arch>(i);
-      if (arch_supported(a)) supported += std::string(supported.empty() ? "" : ", ") + to_string(a);
+    for (int a = 0; a < kArchCount; ++a) {
+      if (arch_supported(static_cast<Arch>(a))) supported += std::string(supported.empty() ? "" : ", ") + to_string(static_cast<Arch>(a));
     }
     flags.bad_value("arch", name + " is not supported by this CPU (supported: " + supported + ")");
   }
