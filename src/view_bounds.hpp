@@ -1,7 +1,7 @@
 // Internal: the bytes a strided view covers, computed with overflow checks, and whether two views
 // touch a common byte. The one implementation behind every boundary's validation (reproject.cpp,
-// stereo.cpp, and through them the C interface and the Python module); docs/ERRORS.md lists the
-// messages. Not installed.
+// stereo_checks.hpp, and through them the C interface and the Python module); docs/ERRORS.md lists
+// the messages. Not installed.
 #pragma once
 
 #include <cstddef>

@@ -318,7 +318,8 @@ int32_t reproject_abi_version(void);
  * makes another call of this interface that fails; calls that succeed leave it as it is. Never NULL;
  * do not free it. Copy it before the thread's next call if you keep it. */
 const char* reproject_last_error_message(void);
-/* Short stable names, e.g. "invalid_stride", "secant", "avx2", "standard"; "?" when unknown. */
+/* Short stable names, e.g. "invalid_stride", "secant", "avx2", "standard": the C++ to_string's.
+ * "unknown" for any other value (REPROJECT_ARCH_AUTO included). */
 const char* reproject_status_name(reproject_status status);
 const char* reproject_method_name(int32_t method);
 const char* reproject_arch_name(int32_t arch);

@@ -1,6 +1,6 @@
 // The C test's reference: the same frame through the C++ API directly (reproject.hpp), so that
 // test_c_api.c can compare the C interface's output with it bit for bit. Written apart from
-// src/c_api.cpp on purpose: it builds the C++ views from the raw pointers itself.
+// src/c_api_*.cpp on purpose: it builds the C++ views from the raw pointers itself.
 #include <cstdint>
 #include <type_traits>
 

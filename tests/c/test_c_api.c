@@ -298,6 +298,14 @@ static int hits(const uint8_t* status) {
   return count;
 }
 
+/* A valid decoder, model (eye direction `direction`) and default options for one call. */
+static void good_arguments(reproject_decoder* decoder, reproject_parallax* model, int32_t direction,
+                           reproject_options* options) {
+  reproject_decoder_from_near_far(REPROJECT_DEPTH_STANDARD, kNear, kFar, decoder);
+  reproject_parallax_from_stereo(0.03, 4.0, W, direction, model);
+  reproject_options_init(options);
+}
+
 /* One bad field at a time on an rgba8 + D24S8 frame: a status code and a message naming it
  * (`words`, not read for REPROJECT_OK: the message is the last failure's). */
 static void expect_refused(const reproject_source_buffers* source, const reproject_target_buffers* target,
@@ -306,9 +314,7 @@ static void expect_refused(const reproject_source_buffers* source, const reproje
   reproject_parallax model;
   reproject_options options;
   reproject_status status;
-  reproject_decoder_from_near_far(REPROJECT_DEPTH_STANDARD, kNear, kFar, &decoder);
-  reproject_parallax_from_stereo(0.03, 4.0, W, REPROJECT_LEFT_TO_RIGHT, &model);
-  reproject_options_init(&options);
+  good_arguments(&decoder, &model, REPROJECT_LEFT_TO_RIGHT, &options);
   status = reproject_warp_buffers(source, &decoder, &model, &options, target, NULL);
   CHECK(status == expected, "%s: status %s, expected %s (%s)", what, reproject_status_name(status),
         reproject_status_name(expected), reproject_last_error_message());
@@ -442,15 +448,60 @@ static void format_errors(void) {
   CHECK(reproject_warp_pair_buffers(&s, NULL, NULL, NULL, &t, &t, NULL) == REPROJECT_NULL_POINTER, "null decoder");
   CHECK(strstr(reproject_last_error_message(), "reproject_warp_pair_buffers") != NULL, "%s",
         reproject_last_error_message());
+  {
+    /* Each entry point names itself and the first null argument, in the order of its parameters. */
+    const reproject_source fs = source_of();
+    reproject_target ft = target_of(&c_out);
+    reproject_decoder d;
+    reproject_parallax m;
+    reproject_options o;
+    good_arguments(&d, &m, REPROJECT_CENTRE_TO_RIGHT, &o);
+    CHECK(reproject_warp(&fs, NULL, &m, NULL, &ft, NULL) == REPROJECT_NULL_POINTER, "warp: null decoder");
+    CHECK(strcmp(reproject_last_error_message(), "reproject_warp: decoder is null (source, decoder, model, options "
+                 "and target are required)") == 0, "%s", reproject_last_error_message());
+    CHECK(reproject_warp(&fs, &d, &m, &o, NULL, NULL) == REPROJECT_NULL_POINTER, "warp: null target");
+    CHECK(strstr(reproject_last_error_message(), "reproject_warp: target is null") != NULL, "%s",
+          reproject_last_error_message());
+    CHECK(reproject_warp_pair(&fs, &d, NULL, &o, &ft, &ft, NULL) == REPROJECT_NULL_POINTER, "pair: null model");
+    CHECK(strcmp(reproject_last_error_message(), "reproject_warp_pair: centre_to_right is null (centre, decoder, "
+                 "model, options, left and right are required)") == 0, "%s", reproject_last_error_message());
+    CHECK(reproject_warp_pair(&fs, &d, &m, &o, &ft, NULL, NULL) == REPROJECT_NULL_POINTER, "pair: null right");
+    CHECK(strstr(reproject_last_error_message(), "reproject_warp_pair: right is null") != NULL, "%s",
+          reproject_last_error_message());
+    CHECK(reproject_warp_buffers(&s, &d, &m, NULL, &t, NULL) == REPROJECT_NULL_POINTER, "buffers: null options");
+    CHECK(strcmp(reproject_last_error_message(), "reproject_warp_buffers: options is null (source, decoder, model, "
+                 "options and target are required)") == 0, "%s", reproject_last_error_message());
+    CHECK(reproject_warp_pair_buffers(&s, &d, &m, &o, NULL, &t, NULL) == REPROJECT_NULL_POINTER, "pair: null left");
+    CHECK(strcmp(reproject_last_error_message(), "reproject_warp_pair_buffers: left is null (centre, decoder, model, "
+                 "options, left and right are required)") == 0, "%s", reproject_last_error_message());
+  }
 
   /* Names of the format values. */
   CHECK(strcmp(reproject_color_format_name(REPROJECT_COLOR_RGBA8_SRGB), "rgba8_srgb") == 0, "colour format name");
   CHECK(strcmp(reproject_color_format_name(REPROJECT_COLOR_RGBA16F), "rgba16f") == 0, "colour format name");
-  CHECK(strcmp(reproject_color_format_name(4), "?") == 0, "unknown colour format name");
+  CHECK(strcmp(reproject_color_format_name(4), "unknown") == 0, "unknown colour format name");
   CHECK(strcmp(reproject_depth_format_name(REPROJECT_DEPTH_FORMAT_S8_UNORM24), "s8_unorm24") == 0, "depth format name");
   CHECK(strcmp(reproject_depth_format_name(REPROJECT_DEPTH_FORMAT_RGBA8_PACKED_LINEAR), "rgba8_packed_linear") == 0,
         "depth format name");
-  CHECK(strcmp(reproject_depth_format_name(-1), "?") == 0, "unknown depth format name");
+  CHECK(strcmp(reproject_depth_format_name(-1), "unknown") == 0, "unknown depth format name");
+
+  /* Every name function answers an unknown value as the C++ to_string does: "unknown", both for a
+   * value inside the enums' 0..255 that no constant has and for one beyond it (256 + 1 must not
+   * wrap onto 1's name). */
+  CHECK(strcmp(reproject_status_name(REPROJECT_CANCELLED), "cancelled") == 0, "status name");
+  CHECK(strcmp(reproject_status_name(REPROJECT_CANCELLED + 1), "unknown") == 0, "unknown status name");
+  CHECK(strcmp(reproject_status_name(-1), "unknown") == 0, "negative status name");
+  CHECK(strcmp(reproject_status_name(256 + REPROJECT_NULL_POINTER), "unknown") == 0, "status name beyond 255");
+  CHECK(strcmp(reproject_method_name(REPROJECT_METHOD_EXACT), "exact") == 0, "method name");
+  CHECK(strcmp(reproject_method_name(REPROJECT_METHOD_EXACT + 1), "unknown") == 0, "unknown method name");
+  CHECK(strcmp(reproject_arch_name(REPROJECT_ARCH_NEON), "neon") == 0, "arch name");
+  CHECK(strcmp(reproject_arch_name(REPROJECT_ARCH_NEON + 1), "unknown") == 0, "unknown arch name");
+  CHECK(strcmp(reproject_arch_name(REPROJECT_ARCH_AUTO), "unknown") == 0, "REPROJECT_ARCH_AUTO names no arch");
+  CHECK(strcmp(reproject_encoding_name(REPROJECT_DEPTH_DISPARITY), "disparity") == 0, "encoding name");
+  CHECK(strcmp(reproject_encoding_name(255), "unknown") == 0, "unknown encoding name");
+  CHECK(strcmp(reproject_encoding_name(256 + REPROJECT_DEPTH_STANDARD), "unknown") == 0, "encoding name beyond 255");
+  CHECK(strcmp(reproject_color_format_name(256 + REPROJECT_COLOR_RGBA8), "unknown") == 0, "colour name beyond 255");
+  CHECK(strcmp(reproject_depth_format_name(1000), "unknown") == 0, "depth format name beyond 255");
 }
 
 /* Every method, one eye and the pair, at threads 1 and 2 and through the job-system hook: the
