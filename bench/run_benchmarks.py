@@ -17,6 +17,7 @@ import datetime
 import glob
 import json
 import os
+import pathlib
 import platform
 import re
 import shlex
@@ -813,6 +814,25 @@ def write_page(data, json_path, doc_path):
               ("the %s frames fit in it" % " and ".join(fits)) if fits else "no frame fits in it"))
     if r.errors:
         w("* Benchmarks that reported an error: " + "; ".join("`%s`: %s" % kv for kv in sorted(r.errors.items())))
+    w("")
+
+    # --- ARM: not timed here; the instruction mix from the object code instead ---
+    w("## ARM")
+    w("")
+    w("ARM timings are **not yet measured**: no ARM hardware is at hand, and timings under `qemu-aarch64`")
+    w("mean nothing (CI runs the aarch64 build's tests and a smoke run of this benchmark there, but")
+    w("quotes no figure). What can be read without the hardware is the object code: the NEON table's")
+    w("inner loops against AVX2's, instructions per loop iteration and per pixel of its vector (4 lanes")
+    w("on NEON, 8 on AVX2), of which vector instructions in brackets. `single`'s loop is its whole")
+    w("search; in `march16` the shortest loops are one sample of the march (per vector) and the longer")
+    w("ones the per-vector loop around the samples (both directions of the march are compiled).")
+    w("")
+    mix = pathlib.Path(__file__).resolve().parent / "arm_instruction_mix.md"
+    if mix.exists():
+        for line in mix.read_text().splitlines():
+            w(line)
+    else:
+        w("(bench/arm_instruction_mix.md is missing: run bench/instruction_mix.py, as its header says.)")
     w("")
 
     # --- Everything ---

@@ -178,9 +178,10 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
   std::printf("%s: %ld runs, %ld differ from the scalar reference\n", to_string(arch), runs, mismatched);
   EXPECT_EQ(mismatched, 0);
   if (modes) {
-    // Every fetch mode ran: plain loads, one permute, two-register permute (AVX2, AVX-512), gathers.
+    // Every fetch mode ran: plain loads, one permute, two-register permute (AVX2, AVX-512, and
+    // NEON with its byte table look-ups), gathers. SSE4.1 has no variable permute: it gathers.
     const char* names[4] = {"consecutive", "shifted", "spanning", "gather"};
-    const bool permutes = arch == Arch::avx2 || arch == Arch::avx512;
+    const bool permutes = arch == Arch::avx2 || arch == Arch::avx512 || arch == Arch::neon;
     std::printf("%s: resolve vectors by fetch mode:", to_string(arch));
     for (int m = 0; m < 4; ++m) {
       const std::uint64_t n = modes->vectors[m] - modes_before.vectors[m];
