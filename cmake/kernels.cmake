@@ -4,8 +4,8 @@
 # One translation unit per instruction set (kernels/arch_<set>.cpp), with that set's flags on that
 # file only; the API, the dispatch and the scalar references are built with the baseline flags.
 # Each is an object library of its own so that tests/check_object_code.cmake can read its object
-# code. CMake defines REPROJECT_HAVE_<SET> on the library for each set compiled
-# (kernels/dispatch.cpp), and the family's CPU detection (kernels/cpu_<family>.cpp).
+# code. A set this family does not have gets a null table (kernels/arch_absent.cpp), so that
+# kernels/dispatch.cpp names every set alike; the family's CPU detection is kernels/cpu_<family>.cpp.
 #
 # The family comes from the compiler's own predefined macros rather than CMAKE_SYSTEM_PROCESSOR,
 # which is spelled aarch64 (Linux, Android), arm64 (Apple) or ARM64 (Windows), x86_64, AMD64 or
@@ -57,8 +57,17 @@ foreach(set IN LISTS REPROJECT_SIMD_SETS)
     target_compile_options(reproject_simd_${set} PRIVATE ${REPROJECT_FLAGS_${set}})
   endif()
   target_sources(reproject PRIVATE $<TARGET_OBJECTS:reproject_simd_${set}>)
-  string(TOUPPER ${set} _reproject_set)
-  target_compile_definitions(reproject PRIVATE REPROJECT_HAVE_${_reproject_set}=1)
+endforeach()
+# The sets of the other families (or all, without SIMD): tables that are null.
+foreach(set sse avx2 avx512 neon)
+  if(NOT set IN_LIST REPROJECT_SIMD_SETS)
+    add_library(reproject_absent_${set} OBJECT kernels/arch_absent.cpp)
+    target_compile_definitions(reproject_absent_${set} PRIVATE REPROJECT_ABSENT_TABLE=${set}_kernels)
+    target_include_directories(reproject_absent_${set} PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR})
+    target_link_libraries(reproject_absent_${set} PRIVATE reproject_flags)
+    set_target_properties(reproject_absent_${set} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    target_sources(reproject PRIVATE $<TARGET_OBJECTS:reproject_absent_${set}>)
+  endif()
 endforeach()
 if(TARGET reproject_simd_avx512 AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
   # GCC 12 reports its own avx512fintrin.h mask helpers as maybe-uninitialized when inlined

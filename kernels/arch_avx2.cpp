@@ -3,13 +3,11 @@
 #include "kernels/dispatch.hpp"
 #include "kernels/simd_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 const KernelTable* avx2_kernels() {
   static const KernelTable table = make_simd_table<xsimd::fma3<xsimd::avx2>, Fused>("avx2");
   return &table;
 }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -2,13 +2,11 @@
 #include "kernels/dispatch.hpp"
 #include "kernels/simd_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 const KernelTable* avx512_kernels() {
   static const KernelTable table = make_simd_table<xsimd::avx512bw, Fused>("avx512");
   return &table;
 }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -3,13 +3,11 @@
 #include "kernels/dispatch.hpp"
 #include "kernels/simd_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 const KernelTable* neon_kernels() {
   static const KernelTable table = make_simd_table<xsimd::neon64, Fused>("neon");
   return &table;
 }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

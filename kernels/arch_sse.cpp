@@ -2,13 +2,11 @@
 #include "kernels/dispatch.hpp"
 #include "kernels/simd_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 const KernelTable* sse_kernels() {
   static const KernelTable table = make_simd_table<xsimd::sse4_1, Unfused>("sse");
   return &table;
 }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

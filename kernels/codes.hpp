@@ -8,8 +8,7 @@
 #include <cstdint>
 #include <cstring>
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per translation unit (kernels/fma.hpp)
 
 inline float float_of_bits(std::uint32_t bits) noexcept {
@@ -92,5 +91,4 @@ inline std::uint16_t float_to_half(float value) noexcept {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

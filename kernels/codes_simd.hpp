@@ -7,8 +7,7 @@
 #include "kernels/codes.hpp"
 #include "kernels/simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 template <class Arch>
@@ -53,5 +52,4 @@ IntLanes<Arch> unorm_code_v(const xsimd::batch<float, Arch>& d, float max) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -5,8 +5,7 @@
 #include <cstring>
 #include <limits>
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {
 
 // The sRGB curve in double (IEC 61966-2-1).
@@ -54,5 +53,4 @@ const SrgbTables& srgb_tables() {
   return tables;
 }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

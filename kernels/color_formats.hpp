@@ -11,8 +11,7 @@
 #include "kernels/fma.hpp"
 #include "kernels/frame.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 // sRGB tables, built once (color_formats.cpp). Encoding a linear value looks up its bucket by
 // the float's top bits (kSrgbBucketShift): each bucket holds at most one rounding threshold, so
@@ -106,5 +105,4 @@ struct ColorRow {
 };
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -9,8 +9,7 @@
 #include "kernels/codes_simd.hpp"
 #include "kernels/color_formats.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // rgba8 / rgba8_srgb: L pixels' words blended channel by channel (scalar twin: ColorRow::write).
@@ -72,9 +71,7 @@ void resolve_rgba_pixels(const std::uint8_t* source, std::uint8_t* target, const
                          const xsimd::batch<float, Arch>& j1, const xsimd::batch<float, Arch>& frac,
                          const xsimd::batch_bool<float, Arch>& keep, const xsimd::batch_bool<float, Arch>& black,
                          bool any_special) {
-  using F = typename Lanes<Arch>::F;
-  using I = typename Lanes<Arch>::I;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   alignas(64) std::int32_t first[L], second[L];
   alignas(64) float weight[L];
   (xsimd::to_int(j0) * I(Pixel::kBytes)).store_aligned(first);
@@ -97,5 +94,4 @@ void resolve_rgba_pixels(const std::uint8_t* source, std::uint8_t* target, const
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

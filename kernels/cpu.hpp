@@ -5,12 +5,10 @@
 
 #include "reproject/reproject.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 // Whether the CPU and the operating system support `arch` (whether it was compiled in is
 // kernels/dispatch.hpp's compiled_kernels()). Arch::scalar: always.
 bool cpu_supports(Arch arch) noexcept;
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

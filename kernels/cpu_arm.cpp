@@ -2,10 +2,8 @@
 // AArch64 processor, so there is nothing to ask the CPU.
 #include "kernels/cpu.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 bool cpu_supports(Arch arch) noexcept { return arch == Arch::scalar || arch == Arch::neon; }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

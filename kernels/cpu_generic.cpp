@@ -2,10 +2,8 @@
 // (REPROJECT_SIMD=OFF): only the scalar references run (kernels/cpu.hpp).
 #include "kernels/cpu.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 bool cpu_supports(Arch arch) noexcept { return arch == Arch::scalar; }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

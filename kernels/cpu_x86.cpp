@@ -4,8 +4,7 @@
 
 #include <cpuid.h>
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {
 
 unsigned long long xgetbv0() {
@@ -54,5 +53,4 @@ bool cpu_supports(Arch arch) noexcept {
   return false;
 }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

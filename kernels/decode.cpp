@@ -7,8 +7,7 @@
 #include "kernels/depth_formats.hpp"
 #include "kernels/kernel_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 inline namespace REPROJECT_SCALAR_COPY {
 namespace {
 
@@ -55,5 +54,4 @@ template float nearest_key_in_columns<Fused>(const Frame&, const std::uint8_t*, 
 template float nearest_key_in_columns<Unfused>(const Frame&, const std::uint8_t*, int, int, float);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -5,15 +5,13 @@
 #include "kernels/depth_formats_simd.hpp"
 #include "kernels/simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: decode_parallax_columns.
 template <class Arch, class Fma>
 void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored) {
-  using F = typename Lanes<Arch>::F;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
   const F key_far(f.key_far), p_far(f.p_far), limit(f.limit), near_bound(f.s * f.limit), one(1.0f);
   int i = 0;
@@ -35,8 +33,7 @@ void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, flo
 // with max (order-independent, and no NaN survives the decode, so any order gives the same bits).
 template <class Arch, class Fma>
 float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
-  using F = typename Lanes<Arch>::F;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
   const F key_far(f.key_far), limit(f.limit), one(1.0f);
   F nearest = key_far;
@@ -54,5 +51,4 @@ float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -10,8 +10,7 @@
 #include "kernels/codes.hpp"
 #include "kernels/frame.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 constexpr float kUnorm16Max = 65535.0f;
 constexpr float kUnorm24Max = 16777215.0f;
@@ -71,5 +70,4 @@ inline std::uint32_t depth_word(const Frame& f, float d, std::uint32_t kept) noe
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -8,8 +8,7 @@
 #include "kernels/codes_simd.hpp"
 #include "kernels/depth_formats.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Calls body(tag) with a compile-time tag of the depth format, so that the row loops are
@@ -94,5 +93,4 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> depth_words(const Frame& f, const 
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

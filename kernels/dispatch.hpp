@@ -3,11 +3,11 @@
 
 #include "kernels/kernel_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 // Each is defined in its own translation unit built with that instruction set's flags
-// (kernels/arch_<set>.cpp), when CMake compiles it for the target processor.
+// (kernels/arch_<set>.cpp) when CMake compiles the set for the target processor, and returns
+// null otherwise (kernels/arch_absent.cpp).
 const KernelTable* sse_kernels();
 const KernelTable* avx2_kernels();
 const KernelTable* avx512_kernels();
@@ -29,5 +29,4 @@ const KernelTable* compiled_kernels(Arch arch);
 // FMA policy.
 const KernelTable& reference_kernels(Arch arch);
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -3,8 +3,7 @@
 #include "kernels/exact.hpp"
 #include "kernels/kernel_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 template <class Fma>
@@ -12,9 +11,7 @@ void search_row_exact(const Frame& f, RowScratch& scratch, int, int) {
   sweep_row<Fma>(f, scratch);
 }
 
-template void search_row_exact<Fused>(const Frame&, RowScratch&, int, int);
-template void search_row_exact<Unfused>(const Frame&, RowScratch&, int, int);
+REPROJECT_INSTANTIATE_SEARCH(search_row_exact);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

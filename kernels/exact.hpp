@@ -11,8 +11,7 @@
 
 #include "kernels/search.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {
 
 // The first target column t' that a surface point at integer column j with parallax p reaches
@@ -123,5 +122,4 @@ inline void sweep_row(const Frame& f, RowScratch& scratch) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

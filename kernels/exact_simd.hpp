@@ -6,8 +6,7 @@
 #include "kernels/exact.hpp"
 #include "kernels/simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: sweep_row.
@@ -57,9 +56,7 @@ xsimd::batch<float, Arch> segment_frac_v(const xsimd::batch<float, Arch>& target
 // test, per lane.
 template <class Arch, class Fma, bool Upwards>
 void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, float margin) {
-  using F = typename Lanes<Arch>::F;
-  using B = typename Lanes<Arch>::B;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   for (int t = 0; t < f.target_width; t += L) F(kFarDefault).store_unaligned(owner + t);
   // Code `code` onto targets [begin, end).
   auto paint = [&](float code, int begin, int end) {
@@ -94,8 +91,7 @@ void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, f
 // far side of the sweep (above it upwards, below it downwards).
 template <class Arch, bool Upwards>
 void exact_paint(const Frame& f, const float* parallax, float* owner) {
-  using F = typename Lanes<Arch>::F;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   // Whole vectors from the sweep's near side of [begin, end); nothing when it is empty.
   auto fill = [&](const F& code, int begin, int end) {
     if constexpr (Upwards) {
@@ -125,8 +121,7 @@ void exact_paint(const Frame& f, const float* parallax, float* owner) {
 // exact_paint_clipping's margin, from the row's largest |p|.
 template <class Arch>
 bool exact_may_clip(const Frame& f, const float* parallax, float* margin) {
-  using F = typename Lanes<Arch>::F;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   if (f.near_from_frame) return false;  // the frame's own nearest: nothing is clipped
   const F s(f.s);
   F nearest(f.key_far), largest(0.0f);
@@ -148,9 +143,7 @@ bool exact_may_clip(const Frame& f, const float* parallax, float* margin) {
 
 template <class Arch, class Fma>
 void simd_exact(const Frame& f, RowScratch& scratch) {
-  using F = typename Lanes<Arch>::F;
-  using B = typename Lanes<Arch>::B;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   const int last = f.source_width - 1;
   const int width = f.target_width;
   if (last < 1 || width < L) {
@@ -211,5 +204,4 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

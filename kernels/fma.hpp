@@ -8,8 +8,7 @@
 #include <cmath>
 #include <type_traits>
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 struct Fused {};
 struct Unfused {};
@@ -30,5 +29,4 @@ inline float madd(float a, float b, float c) noexcept {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -9,8 +9,7 @@
 #include "kernels/depth_formats.hpp"
 #include "kernels/secant.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {
 
 float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi); }
@@ -117,5 +116,4 @@ void prepare_scratch(const Frame& f, RowScratch& scratch) {
   }
 }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

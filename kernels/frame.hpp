@@ -8,8 +8,7 @@
 
 #include "reproject/reproject.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 struct SrgbTables;  // kernels/color_formats.hpp
 
@@ -108,5 +107,4 @@ bool mirrored_eyes(const Frame& left, const Frame& right);
 // allocate, whatever their depth. Valid before set_near_key().
 void prepare_scratch(const Frame& f, RowScratch& scratch);
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

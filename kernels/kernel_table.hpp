@@ -9,8 +9,7 @@
 #include "kernels/fma.hpp"
 #include "kernels/frame.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 // A depth row in the frame's format; `stored` (null: not needed) receives the stored values d.
 using DecodeRow = void (*)(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored);
@@ -54,6 +53,11 @@ template <class Fma> void search_row_single(const Frame& f, RowScratch& scratch,
 template <class Fma> void search_row_secant(const Frame& f, RowScratch& scratch, int t_begin, int t_end);
 template <class Fma> void search_row_exact(const Frame& f, RowScratch& scratch, int t_begin, int t_end);
 
+// Each method's .cpp instantiates its search for both FMA policies with this.
+#define REPROJECT_INSTANTIATE_SEARCH(search)                            \
+  template void search<Fused>(const Frame&, RowScratch&, int, int); \
+  template void search<Unfused>(const Frame&, RowScratch&, int, int)
+
 // The shared stages: decode columns [begin, end) of a row (no padding) and the frame's nearest
 // key over them (kernels/decode.cpp); resolve target pixels [t_begin, t_end) of row y
 // (kernels/resolve.cpp).
@@ -66,5 +70,4 @@ const KernelTable& scalar_kernels(bool fused);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

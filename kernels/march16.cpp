@@ -4,8 +4,7 @@
 #include "kernels/kernel_table.hpp"
 #include "kernels/search.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 template <class Fma>
@@ -29,9 +28,7 @@ void search_row_march16(const Frame& f, RowScratch& scratch, int t_begin, int t_
   }
 }
 
-template void search_row_march16<Fused>(const Frame&, RowScratch&, int, int);
-template void search_row_march16<Unfused>(const Frame&, RowScratch&, int, int);
+REPROJECT_INSTANTIATE_SEARCH(search_row_march16);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -3,8 +3,7 @@
 
 #include "kernels/search_simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: search_row_march16.
@@ -16,9 +15,7 @@ constexpr int kMarchChunk = 16;
 
 template <class Arch, class Fma, bool Positive>
 void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax) {
-  using F = typename Lanes<Arch>::F;
-  using B = typename Lanes<Arch>::B;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   const float* parallax = scratch.parallax;
   const int samples = f.march_steps + 1;
   const F key_near(f.key_near), s(f.s), lanes = lane_offsets<Arch>();
@@ -69,5 +66,4 @@ void simd_march16(const Frame& f, RowScratch& scratch) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

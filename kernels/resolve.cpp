@@ -9,8 +9,7 @@
 #include "kernels/depth_formats.hpp"
 #include "kernels/kernel_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 inline namespace REPROJECT_SCALAR_COPY {
 namespace {
 
@@ -102,5 +101,4 @@ template void resolve_pixels<Fused>(const Frame&, int, const RowScratch&, int, i
 template void resolve_pixels<Unfused>(const Frame&, int, const RowScratch&, int, int);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

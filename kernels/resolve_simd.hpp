@@ -6,16 +6,13 @@
 #include "kernels/depth_formats_simd.hpp"
 #include "kernels/simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: resolve_pixels.
 template <class Arch, class Fma>
 void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
-  using F = typename Lanes<Arch>::F;
-  using B = typename Lanes<Arch>::B;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   const bool interleaved = f.source.color.layout == ColorLayout::interleaved_rgba;
   const ColorFormat format = f.color_format;
   // rgba8 and rgba8_srgb: a pixel is a 32-bit word, read with the column plan like a float;
@@ -157,5 +154,4 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

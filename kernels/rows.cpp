@@ -5,8 +5,7 @@
 
 #include "kernels/depth_formats.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {
 
 // Whether the decode keeps the row's stored depth values for the resolve (RowScratch::stored_depth).
@@ -73,5 +72,4 @@ void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& ker
   }
 }
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -5,8 +5,7 @@
 
 #include "kernels/kernel_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 // max(key_far, s * p) over the decoded parallax of rows [row_begin, row_end), in row order.
 // Taken band by band and reduced in band order, this is bit for bit the whole frame's value
@@ -23,5 +22,4 @@ void run_rows(const Frame& f, const KernelTable& kernels, RowScratch& scratch, i
 void run_pair_rows(const Frame& left, const Frame& right, const KernelTable& kernels, RowScratch& scratch,
                    int row_begin, int row_end);
 
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -2,8 +2,7 @@
 // driver calls (kernels/kernel_table.hpp). Compiled twice, like every scalar reference.
 #include "kernels/kernel_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 inline namespace REPROJECT_SCALAR_COPY {
 namespace {
 
@@ -48,5 +47,4 @@ const KernelTable& scalar_kernels(bool fused) {
 }
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

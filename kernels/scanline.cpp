@@ -6,8 +6,7 @@
 #include "kernels/kernel_table.hpp"
 #include "kernels/search.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 template <class Fma>
@@ -25,9 +24,7 @@ void search_row_scanline(const Frame& f, RowScratch& scratch, int t_begin, int t
   }
 }
 
-template void search_row_scanline<Fused>(const Frame&, RowScratch&, int, int);
-template void search_row_scanline<Unfused>(const Frame&, RowScratch&, int, int);
+REPROJECT_INSTANTIATE_SEARCH(search_row_scanline);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -3,17 +3,14 @@
 
 #include "kernels/search_simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: search_row_scanline.
 
 template <class Arch, class Fma>
 void simd_scanline(const Frame& f, RowScratch& scratch) {
-  using F = typename Lanes<Arch>::F;
-  using B = typename Lanes<Arch>::B;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   const float* parallax = scratch.parallax;
   const float o_near = -f.p_near;
   const float o_far = -f.p_far;
@@ -33,5 +30,4 @@ void simd_scanline(const Frame& f, RowScratch& scratch) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -9,8 +9,7 @@
 #include "kernels/fma.hpp"
 #include "kernels/frame.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per translation unit (kernels/fma.hpp)
 
 // g = s ((t' - x) - P(x)): > 0 while the ray is in front of the surface (docs/BEHAVIOUR.md).
@@ -83,5 +82,4 @@ inline float march_columns(const Frame& f, const float* parallax, int target, fl
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

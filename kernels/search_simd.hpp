@@ -6,8 +6,7 @@
 #include "kernels/search.hpp"
 #include "kernels/simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Parallax at a lane-invariant offset from each lane's target column: two contiguous loads
@@ -36,8 +35,7 @@ template <class Arch, class Fma>
 xsimd::batch<float, Arch> simd_march_columns(const Frame& f, const float* parallax, int target0, float o_start,
                                              xsimd::batch<float, Arch> gap_prev, xsimd::batch_bool<float, Arch> done,
                                              xsimd::batch<float, Arch> offset, float o_end) {
-  using F = typename Lanes<Arch>::F;
-  using B = typename Lanes<Arch>::B;
+  REPROJECT_LANE_TYPES(Arch);
   const F s(f.s), zero(0.0f);
   const ColumnWalk walk = column_walk(f, o_start, o_end);
   float o_prev = o_start;
@@ -60,5 +58,4 @@ xsimd::batch<float, Arch> simd_march_columns(const Frame& f, const float* parall
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -15,8 +15,7 @@
 #include "kernels/search.hpp"
 #include "kernels/secant.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 void build_block_table(const Frame& f, RowScratch& scratch) {
@@ -184,9 +183,7 @@ void search_row_secant(const Frame& f, RowScratch& scratch, int t_begin, int t_e
   }
 }
 
-template void search_row_secant<Fused>(const Frame&, RowScratch&, int, int);
-template void search_row_secant<Unfused>(const Frame&, RowScratch&, int, int);
+REPROJECT_INSTANTIATE_SEARCH(search_row_secant);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -4,8 +4,7 @@
 
 #include "kernels/kernel_table.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 
 constexpr int kSecantTile = 16;   // target pixels that share one step plan, whatever the SIMD width
 constexpr int kSecantBlock = 8;   // source columns per entry of the min/max table
@@ -46,5 +45,4 @@ float secant_refine(const Frame& f, const float* parallax, int target, float o_f
                     float o_behind, float gap_behind);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -4,17 +4,14 @@
 #include "kernels/secant.hpp"
 #include "kernels/search_simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: search_row_secant.
 
 template <class Arch, class Fma>
 void simd_secant(const Frame& f, RowScratch& scratch) {
-  using F = typename Lanes<Arch>::F;
-  using B = typename Lanes<Arch>::B;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   static_assert(kSecantTile % L == 0, "a tile holds whole vectors");
   const float* parallax = scratch.parallax;
   const F s(f.s), zero(0.0f), lanes = lane_offsets<Arch>();
@@ -69,5 +66,4 @@ void simd_secant(const Frame& f, RowScratch& scratch) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -27,8 +27,7 @@
 #error "no arch layer for this processor: CMake compiles no SIMD table here (REPROJECT_SIMD)"
 #endif
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Negation of lane masks is written ~mask: xsimd 8.1's !mask compares with `false`, which on AVX
@@ -40,6 +39,14 @@ struct Lanes {
   using B = xsimd::batch_bool<float, Arch>;
   static constexpr int size = static_cast<int>(F::size);
 };
+
+// A twin's vector types, in one line: F (float lanes), I (int32 lanes), B (float lane masks) and
+// L (how many lanes), for the instruction set Arch.
+#define REPROJECT_LANE_TYPES(Arch)                               \
+  using F [[maybe_unused]] = typename Lanes<Arch>::F;           \
+  using I [[maybe_unused]] = typename Lanes<Arch>::I;           \
+  using B [[maybe_unused]] = typename Lanes<Arch>::B;           \
+  [[maybe_unused]] constexpr int L = Lanes<Arch>::size
 
 template <class Arch>
 xsimd::batch<float, Arch> lane_offsets() {
@@ -199,5 +206,4 @@ class ColumnFetch {
 };
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

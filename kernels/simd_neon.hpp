@@ -32,8 +32,7 @@
 #include "kernels/codes.hpp"
 #include "kernels/fma.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 template <class Fma, class F>
@@ -106,36 +105,33 @@ float first_lane(const xsimd::batch<float, Arch>& v) {
   return vgetq_lane_f32(v, 0);
 }
 
-inline uint8x16_t byte_indices(const xsimd::batch<std::int32_t, xsimd::neon64>& index) {
+// Both permutes take byte indices 4 index + 0..3 (one register: index < 4; two: index < 8).
+struct ByteIndices {
+  uint8x16_t bytes;
+};
+template <class Arch>
+using PermuteIndex = ByteIndices;
+template <class Arch>
+using TwoRegisterIndex = ByteIndices;
+
+template <class Arch>
+ByteIndices prepare_permute(const xsimd::batch<std::int32_t, Arch>& index) {
   const uint32x4_t first_byte = vshlq_n_u32(vreinterpretq_u32_s32(index), 2);     // 4 index
   const uint32x4_t in_each_byte = vmulq_n_u32(first_byte, 0x01010101u);           // ... in all four bytes
-  return vreinterpretq_u8_u32(vaddq_u32(in_each_byte, vdupq_n_u32(0x03020100u)));  // + 0, 1, 2, 3
+  return ByteIndices{vreinterpretq_u8_u32(vaddq_u32(in_each_byte, vdupq_n_u32(0x03020100u)))};  // + 0, 1, 2, 3
+}
+template <class Arch>
+ByteIndices prepare_two_register_permute(const xsimd::batch<std::int32_t, Arch>& index) {
+  return prepare_permute<Arch>(index);
 }
 
 template <class Arch>
-struct PermuteIndex {
-  uint8x16_t bytes;
-};
-template <class Arch>
-PermuteIndex<Arch> prepare_permute(const xsimd::batch<std::int32_t, Arch>& index) {
-  return PermuteIndex<Arch>{byte_indices(index)};
-}
-template <class Arch>
-xsimd::batch<float, Arch> permute(const xsimd::batch<float, Arch>& v, const PermuteIndex<Arch>& index) {
+xsimd::batch<float, Arch> permute(const xsimd::batch<float, Arch>& v, const ByteIndices& index) {
   return vreinterpretq_f32_u8(vqtbl1q_u8(vreinterpretq_u8_f32(v), index.bytes));
-}
-
-template <class Arch>
-struct TwoRegisterIndex {
-  uint8x16_t bytes;
-};
-template <class Arch>
-TwoRegisterIndex<Arch> prepare_two_register_permute(const xsimd::batch<std::int32_t, Arch>& index) {
-  return TwoRegisterIndex<Arch>{byte_indices(index)};
 }
 template <class Arch>
 xsimd::batch<float, Arch> permute_two_registers(const xsimd::batch<float, Arch>& low, const xsimd::batch<float, Arch>& high,
-                                                const TwoRegisterIndex<Arch>& index) {
+                                                const ByteIndices& index) {
   uint8x16x2_t table;
   table.val[0] = vreinterpretq_u8_f32(low);
   table.val[1] = vreinterpretq_u8_f32(high);
@@ -217,5 +213,4 @@ inline void store_half4(std::uint8_t* p, Pixel4 value) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -9,8 +9,7 @@
 #include "kernels/secant_simd.hpp"
 #include "kernels/single_simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 template <class Arch, class Fma>
@@ -30,5 +29,4 @@ KernelTable make_simd_table(const char* name) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

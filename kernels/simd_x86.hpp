@@ -23,8 +23,7 @@
 #include "kernels/codes.hpp"
 #include "kernels/fma.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // The FMA policy on vectors (kernels/fma.hpp). The fused form names the instruction for each
@@ -367,5 +366,4 @@ inline void store_half4(std::uint8_t* p, Pixel4 value) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -4,8 +4,7 @@
 #include "kernels/kernel_table.hpp"
 #include "kernels/search.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_table.hpp)
 
 template <class Fma>
@@ -20,9 +19,7 @@ void search_row_single(const Frame& f, RowScratch& scratch, int t_begin, int t_e
   }
 }
 
-template void search_row_single<Fused>(const Frame&, RowScratch&, int, int);
-template void search_row_single<Unfused>(const Frame&, RowScratch&, int, int);
+REPROJECT_INSTANTIATE_SEARCH(search_row_single);
 
 }  // inline namespace REPROJECT_SCALAR_COPY
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

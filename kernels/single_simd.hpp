@@ -3,16 +3,14 @@
 
 #include "kernels/search_simd.hpp"
 
-namespace reproject {
-namespace detail {
+namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: search_row_single.
 
 template <class Arch, class Fma>
 void simd_single(const Frame& f, RowScratch& scratch) {
-  using F = typename Lanes<Arch>::F;
-  constexpr int L = Lanes<Arch>::size;
+  REPROJECT_LANE_TYPES(Arch);
   const float* parallax = scratch.parallax;
   const int probe_offset = point_offset(f.probe);
   const F s(f.s), key_near(f.key_near), lanes = lane_offsets<Arch>();
@@ -27,5 +25,4 @@ void simd_single(const Frame& f, RowScratch& scratch) {
 }
 
 }  // namespace
-}  // namespace detail
-}  // namespace reproject
+}  // namespace reproject::detail

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <limits>
 
+#include "src/nan_reason.hpp"
+
 namespace reproject {
 namespace {
 
@@ -28,21 +30,8 @@ enum class Reason : std::uint32_t {
   bad_encoding,            // an encoding value outside the enum
 };
 
-float reason_nan(Reason reason) noexcept {
-  // Quiet NaN (exponent all ones, top mantissa bit set) with the reason in the low payload bits.
-  const std::uint32_t bits = 0x7FC00000u | static_cast<std::uint32_t>(reason);
-  float value;
-  std::memcpy(&value, &bits, sizeof value);
-  return value;
-}
-
-Reason reason_of(float value) noexcept {
-  std::uint32_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  if ((bits & 0x7FC00000u) != 0x7FC00000u) return Reason::none;
-  const std::uint32_t code = bits & 0xFFu;
-  return code <= static_cast<std::uint32_t>(Reason::bad_encoding) ? static_cast<Reason>(code) : Reason::none;
-}
+float reason_nan(Reason reason) noexcept { return detail::nan_with_reason(reason); }
+Reason reason_of(float value) noexcept { return detail::reason_in(value, Reason::bad_encoding); }
 
 bool known_encoding(DepthEncoding e) noexcept {
   return static_cast<unsigned>(e) <= static_cast<unsigned>(DepthEncoding::disparity);

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 
+#include "src/nan_reason.hpp"
+
 namespace reproject {
 namespace {
 
@@ -21,20 +23,8 @@ enum class Reason : std::uint32_t {
   direction,     // an EyeDirection outside the enum
 };
 
-float reason_nan(Reason reason) noexcept {
-  const std::uint32_t bits = 0x7FC00000u | static_cast<std::uint32_t>(reason);  // quiet NaN + payload
-  float value;
-  std::memcpy(&value, &bits, sizeof value);
-  return value;
-}
-
-Reason reason_of(float value) noexcept {
-  std::uint32_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  if ((bits & 0x7FC00000u) != 0x7FC00000u) return Reason::none;
-  const std::uint32_t code = bits & 0xFFu;
-  return code <= static_cast<std::uint32_t>(Reason::direction) ? static_cast<Reason>(code) : Reason::none;
-}
+float reason_nan(Reason reason) noexcept { return detail::nan_with_reason(reason); }
+Reason reason_of(float value) noexcept { return detail::reason_in(value, Reason::direction); }
 
 ParallaxModel refused(Reason reason) noexcept {
   ParallaxModel model;
