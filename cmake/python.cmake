@@ -1,4 +1,5 @@
-# The Python module (src/python) and its tests (tests/python), against Debian's interpreter.
+# The Python package (src/python: the extension module and src/python/reproject) and its tests
+# (tests/python), against Debian's interpreter.
 #
 # The module is built for one interpreter: /usr/bin/python3 when it exists (Debian's, the one
 # python3-numpy and python3-pytest install into), not whichever python3 is first on PATH (a pyenv
@@ -31,14 +32,19 @@ else()
   endif()
 endif()
 
+if(_reproject_python_missing AND REPROJECT_PYTHON_REQUIRED)
+  # setup.py (pip) builds the package alone: without the module there is nothing to build.
+  message(FATAL_ERROR "the Python package needs ${_reproject_python_missing}")
+endif()
 if(_reproject_python_missing)
   message(WARNING "REPROJECT_BUILD_PYTHON is ON but ${_reproject_python_missing} was not found: the Python "
                   "module and its tests are NOT built. Install it, or configure with -DREPROJECT_BUILD_PYTHON=OFF.")
   return()
 endif()
-message(STATUS "reproject Python module: for ${Python3_EXECUTABLE} (Python ${Python3_VERSION}), pybind11 ${pybind11_VERSION}")
+message(STATUS "reproject Python package: for ${Python3_EXECUTABLE} (Python ${Python3_VERSION}), pybind11 ${pybind11_VERSION}")
 
-# Where `cmake --install` puts the module: a directory the interpreter searches for this prefix.
+# Where `cmake --install` puts the package (the directory reproject/): a directory the interpreter
+# searches for this prefix.
 # Debian's python3 reads <prefix>/local/lib/python3.X/dist-packages for its own /usr, i.e.
 # /usr/local/lib/python3.X/dist-packages, which is lib/python3.X/dist-packages under the default
 # prefix /usr/local; other Pythons use their site-packages (sysconfig's platlib), same relative path.
@@ -47,7 +53,7 @@ if(NOT DEFINED REPROJECT_PYTHON_INSTALL_DIR)
     "import sys, sysconfig; p = sysconfig.get_path('platlib', vars={'base': '', 'platbase': ''}).lstrip('/'); print(p[len('local/'):] if p.startswith('local/') else p)"
     OUTPUT_VARIABLE _reproject_site OUTPUT_STRIP_TRAILING_WHITESPACE)
   set(REPROJECT_PYTHON_INSTALL_DIR ${_reproject_site} CACHE STRING
-      "Where the Python module is installed, relative to CMAKE_INSTALL_PREFIX")
+      "Where the Python package (the directory reproject/) is installed, relative to CMAKE_INSTALL_PREFIX")
 endif()
 
 add_subdirectory(${PROJECT_SOURCE_DIR}/src/python ${PROJECT_BINARY_DIR}/src/python)

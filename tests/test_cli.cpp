@@ -1040,6 +1040,15 @@ TEST(CliErrors, Usage) {
   EXPECT_FALSE(fs::exists(scratch() / "x.png"));
 }
 
+// The CLI prints the library's version (written once, in CMakeLists.txt), with any environment.
+TEST(CliVersion, PrintsTheLibrarysVersion) {
+  const CliRun r = run("--version", "REPROJECT_FORCE_ARCH=frob ");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, std::string("reproject ") + reproject::version() + "\n");
+  EXPECT_EQ(r.err, "");
+  expect_error("--version extra", 2, "--version takes no arguments");
+}
+
 TEST(CliErrors, Input) {
   ensure_room();
   const std::string camera = " --encoding standard --near 1 --far 20 --convergence 3.5 --out x.png";

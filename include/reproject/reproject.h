@@ -312,6 +312,9 @@ typedef struct reproject_parallel_for {
 } reproject_parallel_for;
 
 int32_t reproject_abi_version(void);
+/* The library's version, "MAJOR.MINOR.PATCH" (C++ reproject::version()): a static string, never
+ * NULL; do not free it. Unlike reproject_abi_version(), it changes with every release. */
+const char* reproject_version(void);
 
 /* The calling thread's last failure message ("ok" if none yet). Each thread has its own: the
  * pointer is to that thread's buffer, and the text stays valid (and unchanged) until the same thread

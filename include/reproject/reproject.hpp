@@ -49,6 +49,11 @@ bool arch_supported(Arch arch) noexcept;
 // set, and the first call says so in one line on stderr.
 Arch selected_arch() noexcept;
 
+// The library's version, "MAJOR.MINOR.PATCH" (the CMake project's version): static storage, never
+// null. The C interface's reproject_version(), the Python package's __version__ and
+// `reproject --version` print the same string.
+const char* version() noexcept;
+
 // Per target pixel, in the optional status plane.
 enum class PixelStatus : std::uint8_t {
   hit = 0,      // the ray meets the surface on a segment that is not a wall

@@ -1,4 +1,5 @@
-// reproject.metrics: PSNR and SSIM (include/reproject/metrics.hpp) over NumPy arrays.
+// reproject.metrics: PSNR and SSIM (include/reproject/metrics.hpp) over NumPy arrays, documented
+// on the package's wrappers (src/python/reproject/metrics.py).
 //
 // The arrays are read in place, whatever their strides (the library takes a row, a pixel and a
 // channel stride), as long as the strides are whole, positive numbers of elements; anything else
@@ -8,57 +9,28 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
-#include <chrono>
-#include <condition_variable>
 #include <cstdint>
-#include <mutex>
 #include <optional>
 #include <string>
 
 #include "arrays.hpp"
 #include "bindings.hpp"
+#include "counters.hpp"
 #include "reproject/metrics.hpp"
 
 namespace reproject::python {
 
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Test-only: how many metric calls are inside the GIL-released region at once, with an optional
-// rendezvous that holds each call there until `want` are inside (or a timeout passes), so that a
-// test proves two Python threads compute together without measuring time (module.cpp counts
-// warp's calls the same way).
-
-struct Concurrency {
-  std::mutex mutex;
-  std::condition_variable changed;
-  int inside = 0;
-  int max_inside = 0;
-  int rendezvous = 0;  // 0: off
-  double timeout_seconds = 0.0;
-};
-Concurrency& concurrency() {
-  static Concurrency c;
-  return c;
+CallCounter& metric_calls() {
+  static CallCounter counter;
+  return counter;
 }
 
 template <class Work>
 Status run_without_gil(Work&& work) {
   py::gil_scoped_release release;
-  Concurrency& c = concurrency();
-  {
-    std::unique_lock<std::mutex> lock(c.mutex);
-    ++c.inside;
-    c.max_inside = std::max(c.max_inside, c.inside);
-    c.changed.notify_all();
-    if (c.rendezvous > 0) {
-      c.changed.wait_for(lock, std::chrono::duration<double>(c.timeout_seconds), [&c] { return c.inside >= c.rendezvous; });
-    }
-  }
-  const Status status = work();
-  std::lock_guard<std::mutex> lock(c.mutex);
-  --c.inside;
-  return status;
+  return metric_calls().count(work);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -146,61 +118,24 @@ double measure(Metric metric, ByteMetric byte_metric, const py::array& a, const 
   return result;
 }
 
-constexpr const char* kPsnrDoc = R"(psnr(a, b, mask=None, data_range=None) -> float
-
-Peak signal-to-noise ratio of a against b in dB: 10 log10(data_range^2 / MSE), the mean squared
-difference over every channel of the scored pixels (all of them, or those where mask is true).
-+inf when the images are equal there, nan when a sample is nan or infinite.
-
-a, b: (H, W) or (H, W, C) arrays, both float32 or both uint8, of one shape, any positive strides.
-mask: None, or an (H, W) bool or uint8 array (nonzero: scored); it must select a pixel.
-data_range: the range of the values, finite and > 0 (None: 1.0 for float32, 255 for uint8).)";
-
-constexpr const char* kSsimDoc = R"(ssim(a, b, mask=None, data_range=None) -> float
-
-Mean structural similarity (Wang et al. 2004) as scikit-image's structural_similarity computes it
-with gaussian_weights=True, sigma=1.5, use_sample_covariance=False and the same data_range: an
-11 x 11 Gaussian window (sigma 1.5, truncated at 3.5 sigma), K1 = 0.01, K2 = 0.03, each channel's
-map averaged over the pixels at least 5 from the border (and where mask is true), then over the
-channels. Computed in float64 whatever the input.
-
-a, b: (H, W) or (H, W, C) arrays, both float32 or both uint8, of one shape (at least 11 x 11),
-any positive strides.
-mask: None, or an (H, W) bool or uint8 array (nonzero: scored); it must select a pixel at least 5
-from the border.
-data_range: the range of the values, finite and > 0 (None: 1.0 for float32, 255 for uint8).)";
-
 }  // namespace
 
 void bind_metrics(py::module_ m) {
-  m.doc() = "Image quality: PSNR and SSIM over NumPy arrays (float32 or uint8), GIL released.";
-  // `import reproject.metrics` finds the submodule too (an extension module is not a package).
-  py::module_::import("sys").attr("modules")[m.attr("__name__")] = m;
   m.def(
       "psnr",
       [](const py::array& a, const py::array& b, const py::object& mask, std::optional<double> data_range) {
         return measure(&reproject::psnr, &reproject::psnr, a, b, mask, data_range);
       },
-      py::arg("a"), py::arg("b"), py::arg("mask") = py::none(), py::arg("data_range") = py::none(), kPsnrDoc);
+      py::arg("a"), py::arg("b"), py::arg("mask") = py::none(), py::arg("data_range") = py::none(),
+      "The compiled reproject.metrics.psnr (documented there).");
   m.def(
       "ssim",
       [](const py::array& a, const py::array& b, const py::object& mask, std::optional<double> data_range) {
         return measure(&reproject::ssim, &reproject::ssim, a, b, mask, data_range);
       },
-      py::arg("a"), py::arg("b"), py::arg("mask") = py::none(), py::arg("data_range") = py::none(), kSsimDoc);
-
-  m.def("_debug_max_concurrent_calls", [] {
-    std::lock_guard<std::mutex> lock(concurrency().mutex);
-    return concurrency().max_inside;
-  }, "Test only: the most metric calls that were inside the library (GIL released) at once since the last reset.");
-  m.def("_debug_reset_counters", [](int rendezvous, double timeout_seconds) {
-    std::lock_guard<std::mutex> lock(concurrency().mutex);
-    concurrency().max_inside = concurrency().inside;
-    concurrency().rendezvous = rendezvous;
-    concurrency().timeout_seconds = timeout_seconds;
-  }, py::arg("rendezvous") = 0, py::arg("timeout_seconds") = 0.0,
-        "Test only: resets the counter; with rendezvous = n, each call waits (GIL released, at most timeout_seconds) "
-        "until n calls are inside.");
+      py::arg("a"), py::arg("b"), py::arg("mask") = py::none(), py::arg("data_range") = py::none(),
+      "The compiled reproject.metrics.ssim (documented there).");
+  metric_calls().bind(m, "metric calls");
 }
 
 }  // namespace reproject::python

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <optional>
 #include <string>
 
@@ -52,11 +53,20 @@ py::array_t<bool> mask_array(const std::vector<std::uint8_t>& mask, int width, i
   return out;
 }
 
+// The built-in scenes' names, from the scene library's own list.
+py::tuple scene_names() {
+  py::tuple names(std::size(scene::kAllScenes));
+  for (std::size_t i = 0; i < std::size(scene::kAllScenes); ++i) names[i] = py::str(scene::to_string(scene::kAllScenes[i]));
+  return names;
+}
+
 SceneViews make_scene(const std::string& name, int width, int height, double fov_degrees, const std::string& encoding,
                       std::optional<double> separation, std::optional<double> convergence, int threads) {
   scene::SceneId id{};
   if (!scene::parse_scene(name.c_str(), &id)) {
-    throw py::value_error("unknown scene '" + name + "' (room, boxes, pole, spheres, near, edge)");
+    std::string names;
+    for (const scene::SceneId known : scene::kAllScenes) names += (names.empty() ? "" : ", ") + std::string(to_string(known));
+    throw py::value_error("unknown scene '" + name + "' (" + names + ")");
   }
   DepthEncoding e{};
   if (!parse_encoding(encoding.c_str(), &e) || e == DepthEncoding::disparity) {
@@ -114,9 +124,12 @@ SceneViews make_scene(const std::string& name, int width, int height, double fov
 }  // namespace
 
 void bind_scenes(py::module_& m) {
-  py::class_<SceneViews>(m, "SceneViews",
-                         "A built-in scene's centre view and true eyes (colour (H, W, 3) in 0..1, depth in the "
-                         "scene's encoding), and where each eye sees what the centre sees (bool masks).")
+  public_class<SceneViews>(m, "SceneViews",
+                         "A built-in scene's centre view and true eyes (reproject.scene): color, left, right "
+                         "(float32 (H, W, 3) in 0..1), depth, left_depth, right_depth (float32 (H, W) in the "
+                         "scene's encoding, decoded by `decoder`), left_visible, right_visible (bool (H, W): "
+                         "where that eye sees what the centre sees); name, width and height (pixels), "
+                         "horizontal_fov (radians), camera (StereoCamera), near and far (view-space units).")
       .def_readonly("name", &SceneViews::name)
       .def_readonly("width", &SceneViews::width)
       .def_readonly("height", &SceneViews::height)
@@ -139,13 +152,8 @@ void bind_scenes(py::module_& m) {
   def_function(m, "scene", &make_scene, py::arg("name") = "room", py::arg("width") = 960, py::arg("height") = 540,
         py::kw_only(), py::arg("fov") = 60.0, py::arg("encoding") = "standard", py::arg("separation") = py::none(),
         py::arg("convergence") = py::none(), py::arg("threads") = 0,
-        "scene(name='room', width=960, height=540, *, fov=60, encoding='standard', separation=None, "
-        "convergence=None, threads=0) -> SceneViews\n\nRay-casts a built-in scene (room, boxes, pole, spheres, "
-        "near, edge) for the centre, left and right eyes of its stereo camera (or the given separation and "
-        "convergence); fov is horizontal, in degrees. Warp s.color, s.depth with decoder=s.decoder and "
-        "separation=s.camera.separation, convergence=s.camera.convergence to compare with s.left / s.right on "
-        "s.left_visible / s.right_visible.");
-  m.attr("scenes") = py::make_tuple("room", "boxes", "pole", "spheres", "near", "edge");
+        "The compiled reproject.scene (documented there).");
+  m.attr("scenes") = scene_names();
 }
 
 }  // namespace reproject::python

@@ -11,6 +11,7 @@
 #include "arrays.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
+#include "names.hpp"
 #include "reproject/stereo.hpp"
 
 namespace reproject::python {
@@ -50,9 +51,15 @@ py::tuple clip_tuple(const ClipPosition& p) { return py::make_tuple(p.x, p.y, p.
 
 void bind_stereo(py::module_& m) {
   // 1. Parallax budget
-  py::class_<ParallaxBudget>(m, "ParallaxBudget", py::dynamic_attr(),
-                             "parallax_budget's result (stereo.hpp): pixels, in units of E*W (`_of_eyes`), "
-                             "comfort shares, and `histogram` (int64 counts, or None).")
+  public_class<ParallaxBudget>(m, "ParallaxBudget", py::dynamic_attr(),
+                             "parallax_budget's result (stereo.hpp). Parallax is left eye -> right eye, in pixels "
+                             "of the display width W. pixels, unreadable (NaN or w < 0, read as infinitely far): "
+                             "counts; display_width W; eye_separation E; eye_parallax E W and parallax_limit, "
+                             "pixels; min, max, percentile (at budget_percentiles, in %): pixels; the same "
+                             "`_of_eyes`: in units of E W (1: the eyes are parallel); beyond_limit, "
+                             "nearer_than_half_convergence, farther_than_100_convergence, uncomfortable: shares of "
+                             "the pixels, 0..1; histogram_min, histogram_max: pixels; below_histogram, "
+                             "above_histogram: counts; histogram: int64 counts per bin, or None.")
       .def_readonly("pixels", &ParallaxBudget::pixels)
       .def_readonly("unreadable", &ParallaxBudget::unreadable)
       .def_readonly("display_width", &ParallaxBudget::display_width)
@@ -102,15 +109,20 @@ void bind_stereo(py::module_& m) {
         py::arg("depth"), py::arg("decoder"), py::arg("camera"), py::kw_only(), py::arg("eye_separation") = py::none(),
         py::arg("display_width") = 0, py::arg("parallax_limit") = py::none(), py::arg("histogram_bins") = 0,
         py::arg("histogram_min") = py::none(), py::arg("histogram_max") = py::none(),
-        "The parallax budget of a depth buffer under a stereo camera (BudgetOptions as keyword arguments).");
+        "The compiled reproject.parallax_budget (documented there).");
 
   // Frusta and 2. the stereo culling frustum
-  py::class_<ViewFrustum> frustum(m, "ViewFrustum", "A view frustum (glFrustum's numbers at the near plane).");
+  auto frustum = public_class<ViewFrustum>(
+      m, "ViewFrustum",
+      "A view frustum in view space (x right, y up, z forward), view-space units. Perspective: its side edges meet "
+      "the plane z = near at x = left, right and y = bottom, top (glFrustum's numbers); far may be inf. "
+      "Orthographic: the box x in [left, right], y in [bottom, top], z in [near, far].");
   def_init(frustum,
            [](double left, double right, double bottom, double top, double near_plane, double far_plane,
               bool orthographic) { return ViewFrustum{left, right, bottom, top, near_plane, far_plane, orthographic}; },
            py::arg("left") = -1.0, py::arg("right") = 1.0, py::arg("bottom") = -1.0, py::arg("top") = 1.0,
-           py::arg("near") = 1.0, py::arg("far") = 1000.0, py::arg("orthographic") = false);
+           py::arg("near") = 1.0, py::arg("far") = 1000.0, py::arg("orthographic") = false,
+           "A frustum from its numbers (view-space units; see the class). validate() checks them.");
   def_static(frustum, "perspective", &ViewFrustum::perspective, py::arg("horizontal_fov"), py::arg("width"),
              py::arg("height"), py::arg("near"), py::arg("far"),
              "A symmetric perspective frustum with square pixels: horizontal_fov in radians (math.radians(60) for "
@@ -123,8 +135,14 @@ void bind_stereo(py::module_& m) {
       .def_readwrite("near", &ViewFrustum::near_plane)
       .def_readwrite("far", &ViewFrustum::far_plane)
       .def_readwrite("orthographic", &ViewFrustum::orthographic)
-      .def("validate", [](const ViewFrustum& f) { raise_if_failed(f.validate()); });
-  py::class_<CullingFrustum> culling(m, "CullingFrustum", "One frustum that holds both eyes' frusta.");
+      .def("validate", [](const ViewFrustum& f) { raise_if_failed(f.validate()); },
+           "ValueError unless every number is finite (far may be inf for perspective), left < right, bottom < top "
+           "and 0 < near < far (orthographic: 0 <= near < far, finite).");
+  auto culling = public_class<CullingFrustum>(
+      m, "CullingFrustum",
+      "One frustum that holds both eyes' frusta (stereo_culling_frustum): pull_back (view-space units), origin (its "
+      "centre of projection in the mono view space), frustum (a ViewFrustum in its own frame) and planes, (6, 4) "
+      "float64 rows (a, b, c, d) with a x + b y + c z + d >= 0 inside: left, right, bottom, top, near, far.");
   culling
       .def_readonly("pull_back", &CullingFrustum::pull_back)
       .def_property_readonly("origin", [](const CullingFrustum& c) { return tuple_of(c.origin); })
@@ -136,17 +154,23 @@ void bind_stereo(py::module_& m) {
                                return planes;
                              });
   def_method(culling, "contains", &CullingFrustum::contains, py::arg("x"), py::arg("y"), py::arg("z"),
-             py::arg("slack") = 0.0);
+             py::arg("slack") = 0.0,
+             "Whether the mono view-space point (x, y, z) is inside every plane, with `slack` view-space units to "
+             "spare.");
   def_function(m, "stereo_culling_frustum",
         [](const ViewFrustum& mono, const StereoCamera& camera) {
           CullingFrustum out;
           raise_if_failed(stereo_culling_frustum(mono, camera, &out));
           return out;
         },
-        py::arg("mono"), py::arg("camera"));
+        py::arg("mono"), py::arg("camera"), "The compiled reproject.stereo_culling_frustum (documented there).");
 
   // 3. Picking
-  py::class_<PickResult>(m, "PickResult", "What is under a cursor (stereo.hpp's pick).")
+  public_class<PickResult>(m, "PickResult",
+                           "What is under a cursor (pick): source ('both', 'left', 'right', 'none': whose answer "
+                           "stands), parallax (left -> right, pixels), inverse_depth (the decoder's units), depth "
+                           "(view-space units, inf at infinity), left_x and right_x (the point's column in each "
+                           "eye, pixels), left_parallax and right_parallax (each eye's own answer, pixels).")
       .def_property_readonly("source", [](const PickResult& r) { return std::string(to_string(r.source)); })
       .def_readonly("parallax", &PickResult::parallax)
       .def_readonly("inverse_depth", &PickResult::inverse_depth)
@@ -171,10 +195,14 @@ void bind_stereo(py::module_& m) {
         },
         py::arg("left_depth"), py::arg("right_depth"), py::arg("decoder"), py::arg("left_to_right"),
         py::arg("cursor_x"), py::arg("cursor_y"), py::kw_only(), py::arg("max_negative_parallax") = py::none(),
-        py::arg("hole_threshold") = 1.0, py::arg("agreement") = 0.25);
+        py::arg("hole_threshold") = 1.0, py::arg("agreement") = 0.25, "The compiled reproject.pick (documented there).");
 
   // 4. Screen -> view reconstruction
-  py::class_<ScreenToView> screen_to_view_class(m, "ScreenToView", "Scale and bias constants of one frustum and viewport.");
+  auto screen_to_view_class = public_class<ScreenToView>(
+      m, "ScreenToView",
+      "Scale and bias constants of one frustum and viewport (make_screen_to_view), public so a shader can take "
+      "them: perspective x_v = (x_bias + pixel_x x_scale) / w with w from the decoder, y likewise, z_v = 1 / w; "
+      "orthographic x_v = x_bias + pixel_x x_scale, z_v = z_bias + d z_scale. width and height in pixels.");
   screen_to_view_class
       .def_readonly("orthographic", &ScreenToView::orthographic)
       .def_readonly("width", &ScreenToView::width)
@@ -191,16 +219,18 @@ void bind_stereo(py::module_& m) {
                const ViewPoint p = s.at_pixel(x, y, stored);
                return py::make_tuple(p.x, p.y, p.z);
              },
-             py::arg("pixel_x"), py::arg("pixel_y"), py::arg("stored"));
+             py::arg("pixel_x"), py::arg("pixel_y"), py::arg("stored"),
+             "The view-space (x, y, z) at continuous pixel coordinates (pixel centres at integers) with stored "
+             "depth `stored`.");
   def_function(m, "make_screen_to_view",
         [](const ViewFrustum& frustum, const std::string& encoding, int width, int height) {
-          DepthEncoding e{};
-          if (!parse_encoding(encoding.c_str(), &e)) throw py::value_error("unknown encoding '" + encoding + "'");
+          const DepthEncoding e = parse_name(encoding, parse_encoding, kDepthEncodingCount, "encoding");
           ScreenToView out;
           raise_if_failed(make_screen_to_view(frustum, e, width, height, &out));
           return out;
         },
-        py::arg("frustum"), py::arg("encoding"), py::arg("width"), py::arg("height"));
+        py::arg("frustum"), py::arg("encoding"), py::arg("width"), py::arg("height"),
+        "The compiled reproject.make_screen_to_view (documented there).");
   def_function(m, "screen_to_view",
         [](const ScreenToView& reconstruction, const py::array& depth, const py::object& out_x,
            const py::object& out_y, const py::object& out_z) {
@@ -218,7 +248,7 @@ void bind_stereo(py::module_& m) {
         },
         py::arg("reconstruction"), py::arg("depth"), py::kw_only(), py::arg("out_x") = py::none(),
         py::arg("out_y") = py::none(), py::arg("out_z") = py::none(),
-        "View-space x, y, z at every pixel centre of depth: a tuple of three (H, W) arrays.");
+        "The compiled reproject.screen_to_view (documented there).");
 
   // 5. 2D elements at a depth
   def_function(m, "place_at_depth",
@@ -228,7 +258,7 @@ void bind_stereo(py::module_& m) {
           return py::make_tuple(clip_tuple(left), clip_tuple(right));
         },
         py::arg("ndc_x"), py::arg("ndc_y"), py::arg("z"), py::arg("camera"), py::arg("decoder"),
-        "The left and right eyes' clip positions (x, y, z, w) of an element at mono NDC (x, y) seen at depth z.");
+        "The compiled reproject.place_at_depth (documented there).");
 
   // 6. Halo pre-filter
   def_function(m, "dilate_nearer_depth",
@@ -245,7 +275,7 @@ void bind_stereo(py::module_& m) {
           return result;
         },
         py::arg("depth"), py::arg("decoder"), py::arg("radius"), py::kw_only(), py::arg("out") = py::none(),
-        "Halo pre-filter: each depth becomes the nearest (largest 1/z) within radius columns of its row.");
+        "The compiled reproject.dilate_nearer_depth (documented there).");
 }
 
 }  // namespace reproject::python

@@ -589,6 +589,10 @@ int main(void) {
   const int arch = reproject_selected_arch();
 
   CHECK(reproject_abi_version() == REPROJECT_C_ABI_VERSION, "abi version %d", (int)reproject_abi_version());
+  /* REPROJECT_EXPECTED_VERSION: the CMake project's version, passed by tests/CMakeLists.txt. */
+  CHECK(reproject_version() != NULL && strcmp(reproject_version(), REPROJECT_EXPECTED_VERSION) == 0,
+        "reproject_version() is '%s', the CMake project's version '%s'",
+        reproject_version() ? reproject_version() : "(null)", REPROJECT_EXPECTED_VERSION);
   CHECK(reproject_arch_supported(REPROJECT_ARCH_SCALAR) == 1, "scalar is always supported");
   CHECK(reproject_arch_supported(arch) == 1, "the selected arch %s is supported", reproject_arch_name(arch));
   printf("selected arch: %s\n", reproject_arch_name(arch));

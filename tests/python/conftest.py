@@ -1,6 +1,8 @@
-# Shared by the Python tests: the module under test and where ctest says the data and the CLI are.
-# ctest sets PYTHONPATH to the build's python/ directory and REPROJECT_TEST_DATA / REPROJECT_CLI
-# (tests/python/CMakeLists.txt); run by hand, set the same.
+# Shared by the Python tests: where the data and the CLI are. The package under test is whichever
+# `import reproject` finds: ctest sets PYTHONPATH to the build's python/ directory (the package
+# build/python/reproject) and REPROJECT_TEST_DATA / REPROJECT_CLI (tests/python/CMakeLists.txt);
+# CI also runs these files with the python of a venv the wheel was installed into, without
+# PYTHONPATH (.ci/run). Run by hand, set the same.
 import os
 import pathlib
 

@@ -3,7 +3,6 @@
 import inspect
 import os
 import platform
-import re
 import subprocess
 import sys
 
@@ -66,12 +65,15 @@ def test_parallax_factories():
 
 def test_options_are_keywords_with_the_cxx_names_and_defaults():
     # reproject.hpp's Options, field by field, with its defaults (unset optionals: None).
-    cxx = {"method": "'exact'", "max_negative_parallax": "None", "hole_threshold": "1.0",
-           "hole_fill": "'background'", "edge": "'clamp'", "guard": "0", "probe_parallax": "None",
-           "march_steps": "16", "secant_max_steps": "256", "arch": "None", "threads": "0"}
-    signature = reproject.warp.__doc__.splitlines()[0]
-    for name, default in cxx.items():
-        assert re.search(rf"\b{name}: [^=,]+ = {re.escape(default)}(?=[,)])", signature), (name, signature)
+    cxx = {"method": "exact", "max_negative_parallax": None, "hole_threshold": 1.0, "hole_fill": "background",
+           "edge": "clamp", "guard": 0, "probe_parallax": None, "march_steps": 16, "secant_max_steps": 256,
+           "arch": None, "threads": 0}
+    for function in (reproject.warp, reproject.warp_pair):
+        parameters = inspect.signature(function).parameters
+        for name, default in cxx.items():
+            assert parameters[name].kind is inspect.Parameter.KEYWORD_ONLY, (function, name)
+            assert parameters[name].default == default and type(parameters[name].default) is type(default), \
+                (function, name, parameters[name].default)
 
 
 def test_keyword_forms_agree():

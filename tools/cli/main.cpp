@@ -16,6 +16,7 @@ namespace {
 
 const char kUsage[] =
     "usage: reproject <command> [flags]    (reproject <command> --help for its flags)\n"
+    "       reproject --version\n"
     "\n"
     "commands:\n"
     "  warp     synthesise one eye from a colour + depth (or disparity) image\n"
@@ -39,6 +40,12 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   remove_temporaries_on_signals();
   try {
+    // Before the arch check: the version is printed whatever the environment says.
+    if (command == "--version") {
+      if (argc > 2) fail(kExitUsage, "--version takes no arguments");
+      std::printf("reproject %s\n", reproject::version());
+      return kExitOk;
+    }
     check_forced_arch();
     if (command == "warp") return run_warp(argc, argv);
     if (command == "pair") return run_pair(argc, argv);
