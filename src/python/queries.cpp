@@ -14,6 +14,7 @@ namespace reproject::python {
 void bind_queries(py::module_& m) {
   m.attr("__version__") = py::str(version());
   m.attr("methods") = name_tuple<Method>(kMethodCount);
+  m.attr("arches") = name_tuple<Arch>(kArchCount);
   def_function(m, "arch_supported",
                [](const std::string& arch) { return arch_supported(parse_name(arch, parse_arch, kArchCount, "arch")); },
                py::arg("arch"), "The compiled reproject.arch_supported (documented there).");

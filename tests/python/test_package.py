@@ -266,7 +266,7 @@ def test_the_option_types_hold_the_librarys_names():
 
     args = typing.get_args
     assert args(reproject.Method) == reproject.methods == listed(lambda: warp(method="?"))
-    assert args(reproject.Arch) == listed(lambda: reproject.arch_supported("?"))
+    assert args(reproject.Arch) == reproject.arches == listed(lambda: reproject.arch_supported("?"))
     assert args(reproject.HoleFill) == listed(lambda: warp(hole_fill="?"))
     assert args(reproject.EdgeMode) == listed(lambda: warp(edge="?"))
     assert args(reproject.Encoding) == listed(lambda: reproject.Decoder("?"))

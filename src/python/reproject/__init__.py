@@ -34,6 +34,7 @@ from ._reproject import (
     _debug_max_concurrent_calls,
     _debug_reset_counters,
     budget_percentiles,
+    arches,
     methods,
     scenes,
 )
@@ -59,7 +60,7 @@ __all__ = [
     "metrics",
     # options' names
     "Method", "Arch", "HoleFill", "EdgeMode", "Encoding", "Direction", "DepthFormat", "ColorSpace", "Eye", "SceneName",
-    "PickSource", "methods", "scenes",
+    "PickSource", "methods", "arches", "scenes",
     # reprojection
     "Decoder", "ParallaxModel", "StereoCamera", "Result", "PairResult", "warp", "warp_pair", "arch_supported",
     "selected_arch",

@@ -28,6 +28,8 @@ _Clip: TypeAlias = tuple[float, float, float, float]
 
 __version__: str
 methods: tuple[Method, ...]
+# Every instruction set the library names, in its order (arch_supported says which run here).
+arches: tuple[Arch, ...]
 scenes: tuple[SceneName, ...]
 budget_percentiles: tuple[float, ...]
 
