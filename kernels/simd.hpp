@@ -150,18 +150,18 @@ class ColumnFetch {
       if (base_ + L < row_length_ &&
           xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
                      (second_from_base <= F(static_cast<float>(L))))) {
-        first_shifted_ = prepare_permute<Arch>(xsimd::to_int(from_base));
-        second_shifted_ = prepare_permute<Arch>(xsimd::to_int(second_from_base - F(1.0f)));
+        index_for_permute(first_, xsimd::to_int(from_base));
+        index_for_permute(second_, xsimd::to_int(second_from_base - F(1.0f)));
         return Mode::shifted;
       }
       if (base_ + 2 * L <= row_length_ && xsimd::all(second_from_base < F(static_cast<float>(2 * L)))) {
-        first_spanning_ = prepare_two_register_permute<Arch>(xsimd::to_int(from_base));
-        second_spanning_ = prepare_two_register_permute<Arch>(xsimd::to_int(second_from_base));
+        index_for_two_registers(first_, xsimd::to_int(from_base));
+        index_for_two_registers(second_, xsimd::to_int(second_from_base));
         return Mode::spanning;
       }
     }
-    first_ = xsimd::to_int(first);
-    second_ = xsimd::to_int(second);
+    index_for_gather(first_, xsimd::to_int(first));
+    index_for_gather(second_, xsimd::to_int(second));
     return Mode::gather;
   }
 
@@ -180,29 +180,28 @@ class ColumnFetch {
         return;
       }
       if constexpr (M == Mode::shifted) {
-        at_first = permute<Arch>(F::load_unaligned(row + base_), first_shifted_);
-        at_second = permute<Arch>(F::load_unaligned(row + base_ + 1), second_shifted_);
+        at_first = permute<Arch>(F::load_unaligned(row + base_), first_);
+        at_second = permute<Arch>(F::load_unaligned(row + base_ + 1), second_);
         return;
       }
       if constexpr (M == Mode::spanning) {
         const F low = F::load_unaligned(row + base_);
         const F high = F::load_unaligned(row + base_ + L);
-        at_first = permute_two_registers<Arch>(low, high, first_spanning_);
-        at_second = permute_two_registers<Arch>(low, high, second_spanning_);
+        at_first = permute_two_registers<Arch>(low, high, first_);
+        at_second = permute_two_registers<Arch>(low, high, second_);
         return;
       }
     }
-    at_first = gather<Arch>(row, first_);
-    at_second = gather<Arch>(row, second_);
+    at_first = gather<Arch>(row, first_.index);
+    at_second = gather<Arch>(row, second_.index);
   }
 
   Mode mode_ = Mode::gather;
   int row_length_;
   int base_ = 0;
-  // The lane indices of each set: absolute (gather), or from `base` as the permutes take them.
-  I first_{}, second_{};
-  PermuteIndex<Arch> first_shifted_{}, second_shifted_{};
-  TwoRegisterIndex<Arch> first_spanning_{}, second_spanning_{};
+  // Each column set's lanes (the arch layer's LaneIndex): absolute for gathers, from `base` for
+  // the permutes.
+  LaneIndex<Arch> first_{}, second_{};
 };
 
 }  // namespace

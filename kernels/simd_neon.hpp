@@ -105,37 +105,41 @@ float first_lane(const xsimd::batch<float, Arch>& v) {
   return vgetq_lane_f32(v, 0);
 }
 
-// Both permutes take byte indices 4 index + 0..3 (one register: index < 4; two: index < 8).
-struct ByteIndices {
+// A column set's lanes as each fetch mode takes them (kernels/simd.hpp, ColumnFetch): the lane
+// indices for gathers, and for both permutes the byte indices 4 index + 0..3 of the table look-up
+// (one register: index < 4; two: index < 8). Set once per column set.
+template <class Arch>
+struct LaneIndex {
+  xsimd::batch<std::int32_t, Arch> index;
   uint8x16_t bytes;
 };
 template <class Arch>
-using PermuteIndex = ByteIndices;
-template <class Arch>
-using TwoRegisterIndex = ByteIndices;
-
-template <class Arch>
-ByteIndices prepare_permute(const xsimd::batch<std::int32_t, Arch>& index) {
-  const uint32x4_t first_byte = vshlq_n_u32(vreinterpretq_u32_s32(index), 2);     // 4 index
-  const uint32x4_t in_each_byte = vmulq_n_u32(first_byte, 0x01010101u);           // ... in all four bytes
-  return ByteIndices{vreinterpretq_u8_u32(vaddq_u32(in_each_byte, vdupq_n_u32(0x03020100u)))};  // + 0, 1, 2, 3
+void index_for_gather(LaneIndex<Arch>& lanes, const xsimd::batch<std::int32_t, Arch>& index) {
+  lanes.index = index;
 }
 template <class Arch>
-ByteIndices prepare_two_register_permute(const xsimd::batch<std::int32_t, Arch>& index) {
-  return prepare_permute<Arch>(index);
+void index_for_permute(LaneIndex<Arch>& lanes, const xsimd::batch<std::int32_t, Arch>& index) {
+  const uint32x4_t first_byte = vshlq_n_u32(vreinterpretq_u32_s32(index), 2);               // 4 index
+  const uint32x4_t in_each_byte = vmulq_n_u32(first_byte, 0x01010101u);                     // ... in all four bytes
+  lanes.bytes = vreinterpretq_u8_u32(vaddq_u32(in_each_byte, vdupq_n_u32(0x03020100u)));  // + 0, 1, 2, 3
+}
+template <class Arch>
+void index_for_two_registers(LaneIndex<Arch>& lanes, const xsimd::batch<std::int32_t, Arch>& index) {
+  index_for_permute(lanes, index);
 }
 
+// Lane i takes v[index[i]] (one register), or (low, high)[index[i]] with index < 8 (two).
 template <class Arch>
-xsimd::batch<float, Arch> permute(const xsimd::batch<float, Arch>& v, const ByteIndices& index) {
-  return vreinterpretq_f32_u8(vqtbl1q_u8(vreinterpretq_u8_f32(v), index.bytes));
+xsimd::batch<float, Arch> permute(const xsimd::batch<float, Arch>& v, const LaneIndex<Arch>& lanes) {
+  return vreinterpretq_f32_u8(vqtbl1q_u8(vreinterpretq_u8_f32(v), lanes.bytes));
 }
 template <class Arch>
 xsimd::batch<float, Arch> permute_two_registers(const xsimd::batch<float, Arch>& low, const xsimd::batch<float, Arch>& high,
-                                                const ByteIndices& index) {
+                                                const LaneIndex<Arch>& lanes) {
   uint8x16x2_t table;
   table.val[0] = vreinterpretq_u8_f32(low);
   table.val[1] = vreinterpretq_u8_f32(high);
-  return vreinterpretq_f32_u8(vqtbl2q_u8(table, index.bytes));
+  return vreinterpretq_f32_u8(vqtbl2q_u8(table, lanes.bytes));
 }
 
 // Stores the first `count` lanes of `value` (count >= 0) and leaves the memory after them as it

@@ -159,59 +159,57 @@ float first_lane(const xsimd::batch<float, Arch>& v) {
   }
 }
 
-// A one-register permute in two steps: prepare once per index vector (x86: the index itself),
-// then apply to any number of registers.
+// A column set's lanes as each fetch mode takes them (kernels/simd.hpp, ColumnFetch): the lane
+// indices (gathers take them as they are, and so does AVX2's and AVX-512's one-register permute),
+// and for AVX2's two-register permute the lanes that come from the second register. Set once per
+// column set, used for any number of rows.
 template <class Arch>
-using PermuteIndex = xsimd::batch<std::int32_t, Arch>;
+struct LaneIndex {
+  xsimd::batch<std::int32_t, Arch> index;
+  xsimd::batch<float, Arch> from_high;  // AVX2, two registers: all ones where index >= L
+};
 template <class Arch>
-PermuteIndex<Arch> prepare_permute(const xsimd::batch<std::int32_t, Arch>& index) {
-  return index;
+void index_for_gather(LaneIndex<Arch>& lanes, const xsimd::batch<std::int32_t, Arch>& index) {
+  lanes.index = index;
 }
 template <class Arch>
-xsimd::batch<float, Arch> permute([[maybe_unused]] const xsimd::batch<float, Arch>& v,
-                                  [[maybe_unused]] const PermuteIndex<Arch>& index) {
-  static_assert(kHasPermute<Arch>, "permute() needs AVX2 or AVX-512");
-#if defined(__AVX512F__)
-  if constexpr (sizeof(v) == 64) return _mm512_permutexvar_ps(index, v);
-#endif
+void index_for_permute(LaneIndex<Arch>& lanes, const xsimd::batch<std::int32_t, Arch>& index) {
+  lanes.index = index;
+}
+template <class Arch>
+void index_for_two_registers(LaneIndex<Arch>& lanes, const xsimd::batch<std::int32_t, Arch>& index) {
+  lanes.index = index;
 #if defined(__AVX2__)
-  if constexpr (sizeof(v) == 32) return _mm256_permutevar8x32_ps(v, index);
+  if constexpr (sizeof(index) == 32 && kHasPermute<Arch>) {
+    lanes.from_high = _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, _mm256_set1_epi32(7)));
+  }
 #endif
 }
 
-// A permute across two registers (lane i takes (low, high)[index[i]], index < 2L), in two steps:
-// prepare once per index vector, then pick from any number of register pairs. AVX-512 has one
-// instruction for it; AVX2's permute reaches one register, so it permutes both and takes each
-// lane's own, with the lanes that come from `high` prepared as a mask.
+// Lane i takes v[index[i]] (one register), or (low, high)[index[i]] with index < 2L (two).
 template <class Arch>
-struct TwoRegisterIndex {
-  xsimd::batch<std::int32_t, Arch> index;
-  xsimd::batch<float, Arch> from_high;  // AVX2: all ones where index >= L
-};
-template <class Arch>
-TwoRegisterIndex<Arch> prepare_two_register_permute(const xsimd::batch<std::int32_t, Arch>& index) {
-  using I = xsimd::batch<std::int32_t, Arch>;
-  constexpr int L = static_cast<int>(I::size);
-  TwoRegisterIndex<Arch> prepared{index, xsimd::batch<float, Arch>(0.0f)};
-#if defined(__AVX2__)
-  if constexpr (L == 8 && kHasPermute<Arch>) {
-    prepared.from_high = _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, _mm256_set1_epi32(L - 1)));
-  }
+xsimd::batch<float, Arch> permute([[maybe_unused]] const xsimd::batch<float, Arch>& v,
+                                  [[maybe_unused]] const LaneIndex<Arch>& lanes) {
+  static_assert(kHasPermute<Arch>, "permute() needs AVX2 or AVX-512");
+#if defined(__AVX512F__)
+  if constexpr (sizeof(v) == 64) return _mm512_permutexvar_ps(lanes.index, v);
 #endif
-  (void)L;
-  return prepared;
+#if defined(__AVX2__)
+  if constexpr (sizeof(v) == 32) return _mm256_permutevar8x32_ps(v, lanes.index);
+#endif
 }
 template <class Arch>
 xsimd::batch<float, Arch> permute_two_registers([[maybe_unused]] const xsimd::batch<float, Arch>& low,
                                                 [[maybe_unused]] const xsimd::batch<float, Arch>& high,
-                                                [[maybe_unused]] const TwoRegisterIndex<Arch>& prepared) {
+                                                [[maybe_unused]] const LaneIndex<Arch>& lanes) {
   static_assert(kHasPermute<Arch>, "permute_two_registers() needs AVX2 or AVX-512");
 #if defined(__AVX512F__)
-  if constexpr (sizeof(low) == 64) return _mm512_permutex2var_ps(low, prepared.index, high);
+  if constexpr (sizeof(low) == 64) return _mm512_permutex2var_ps(low, lanes.index, high);
 #endif
 #if defined(__AVX2__)
   if constexpr (sizeof(low) == 32) {
-    return _mm256_blendv_ps(permute<Arch>(low, prepared.index), permute<Arch>(high, prepared.index), prepared.from_high);
+    // AVX2's permute reaches one register: permute both, then take each lane's own.
+    return _mm256_blendv_ps(permute<Arch>(low, lanes), permute<Arch>(high, lanes), lanes.from_high);
   }
 #endif
 }
