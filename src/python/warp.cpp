@@ -46,41 +46,54 @@ Status run_without_gil(Work&& work, std::atomic<bool>& cancel) {
       std::optional<double> max_negative_parallax, double hole_threshold, const std::string &hole_fill,           \
       const std::string &edge, int guard, std::optional<double> probe_parallax, int march_steps,                  \
       int secant_max_steps, const std::optional<std::string>&arch, int threads
+// The same parameters passed on, in their order.
+#define REPROJECT_WARP_ARGUMENTS                                                                                  \
+  color_space, depth_format, linear_range, encoding, near_plane, far_plane, decoder, separation, convergence,     \
+      direction, model, method, max_negative_parallax, hole_threshold, hole_fill, edge, guard, probe_parallax,    \
+      march_steps, secant_max_steps, arch, threads
+
+// What warp and warp_pair read from their arguments alike: the source, the decoder, the options
+// (with a cancel flag of the call's own) and the model (`pair`: the centre-to-right eye's).
+struct WarpCall {
+  Source source;
+  DepthDecoder decoder;
+  Options options;
+  int width = 0;
+  ParallaxModel model;
+  std::atomic<bool> cancel{false};
+
+  WarpCall(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS, bool pair)
+      : source(source_from(color, depth, color_space, depth_format, linear_range)),
+        decoder(decoder_from(decoder, encoding, near_plane, far_plane)) {
+    options = options_from(method, max_negative_parallax, hole_threshold, hole_fill, edge, guard, probe_parallax,
+                           march_steps, secant_max_steps, arch, threads);
+    options.cancel = &cancel;
+    width = target_width(source, guard);
+    this->model = model_from(model, this->decoder, separation, convergence, direction, width, pair);
+  }
+};
 
 Result warp(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS, const py::object& out) {
-  const Source s = source_from(color, depth, color_space, depth_format, linear_range);
-  const DepthDecoder d = decoder_from(decoder, encoding, near_plane, far_plane);
-  const Options o = options_from(method, max_negative_parallax, hole_threshold, hole_fill, edge, guard, probe_parallax,
-                                 march_steps, secant_max_steps, arch, threads);
-  const int width = target_width(s, guard);
-  const ParallaxModel m = model_from(model, d, separation, convergence, direction, width, false);
-  Target t = target_from(s, s.height, width, out, "out");
-  std::atomic<bool> cancel{false};
-  Options cancellable = o;
-  cancellable.cancel = &cancel;
-  raise_if_failed(run_without_gil([&] { return reproject::reproject(s.view, d, m, cancellable, t.view); }, cancel));
+  WarpCall c(color, depth, REPROJECT_WARP_ARGUMENTS, false);
+  Target t = target_from(c.source, c.source.height, c.width, out, "out");
+  raise_if_failed(run_without_gil(
+      [&] { return reproject::reproject(c.source.view, c.decoder, c.model, c.options, t.view); }, c.cancel));
   return t.result;
 }
 
 PairResult warp_pair(const py::array& color, const py::array& depth, REPROJECT_WARP_PARAMETERS,
                      const py::object& out_left, const py::object& out_right) {
-  const Source s = source_from(color, depth, color_space, depth_format, linear_range);
-  const DepthDecoder d = decoder_from(decoder, encoding, near_plane, far_plane);
-  const Options o = options_from(method, max_negative_parallax, hole_threshold, hole_fill, edge, guard, probe_parallax,
-                                 march_steps, secant_max_steps, arch, threads);
-  const int width = target_width(s, guard);
-  const ParallaxModel m = model_from(model, d, separation, convergence, direction, width, true);
-  Target left = target_from(s, s.height, width, out_left, "out_left");
-  Target right = target_from(s, s.height, width, out_right, "out_right");
-  std::atomic<bool> cancel{false};
-  Options cancellable = o;
-  cancellable.cancel = &cancel;
+  WarpCall c(color, depth, REPROJECT_WARP_ARGUMENTS, true);
+  Target left = target_from(c.source, c.source.height, c.width, out_left, "out_left");
+  Target right = target_from(c.source, c.source.height, c.width, out_right, "out_right");
   raise_if_failed(run_without_gil(
-      [&] { return reproject::reproject_pair(s.view, d, m, cancellable, left.view, right.view); }, cancel));
+      [&] { return reproject::reproject_pair(c.source.view, c.decoder, c.model, c.options, left.view, right.view); },
+      c.cancel));
   return PairResult{left.result, right.result};
 }
 
 #undef REPROJECT_WARP_PARAMETERS
+#undef REPROJECT_WARP_ARGUMENTS
 
 // Adds the keyword arguments shared by warp and warp_pair, in the same order as the parameters
 // (and as the package's wrappers: tests/python/test_package.py compares them).
