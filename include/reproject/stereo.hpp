@@ -111,7 +111,8 @@ struct ViewFrustum {
   double far_plane = 1000.0;
   bool orthographic = false;
 
-  // Symmetric perspective frustum with square pixels: right = near tan(fov/2), top = right * height / width.
+  // Symmetric perspective frustum with square pixels: right = near tan(fov/2), top = right * height / width;
+  // horizontal_fov in radians (0 < fov < pi), near and far in view-space units.
   static ViewFrustum perspective(double horizontal_fov, int width, int height, double near_plane,
                                  double far_plane) noexcept;
   // invalid_option unless every number is finite (far may be +inf for perspective), left < right,
