@@ -42,8 +42,8 @@ int colour_views(const ColorViewT<T>& color, NamedView* out, const char* name) {
   return interleaved ? 1 : color.channels;
 }
 
-// The source depth's size, without forming its stride in bytes (detail::depth_buffer_of does,
-// which validation must not do before the stride is checked).
+// The source depth's size, without forming its stride in bytes (normalised_source below does,
+// which must wait until the stride is checked).
 struct Size {
   int width = 0;
   int height = 0;
