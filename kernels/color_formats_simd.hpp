@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 #include "kernels/codes_simd.hpp"
 #include "kernels/color_formats.hpp"
@@ -23,12 +24,12 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
   using F = typename Lanes<Arch>::F;
   using I = IntLanes<Arch>;
   I out(0);
-  for (int c = 0; c < 4; ++c) {
-    // (A shift of 24 leaves the sign bits of an arithmetic shift: masked like the others.)
-    const I b0 = c == 0 ? w0 & I(0xff) : (w0 >> (8 * c)) & I(0xff);
-    const I b1 = c == 0 ? w1 & I(0xff) : (w1 >> (8 * c)) & I(0xff);
+  auto channel = [&](auto c_tag) {
+    constexpr int c = decltype(c_tag)::value;
+    const I b0 = byte_lanes<c, Arch>(w0);
+    const I b1 = byte_lanes<c, Arch>(w1);
     I byte;
-    if (Srgb && c < 3) {
+    if constexpr (Srgb && c < 3) {
       const F l0 = gather<Arch>(f.srgb->to_linear, b0);
       const F l1 = gather<Arch>(f.srgb->to_linear, b1);
       const F linear = vmadd<Fma>(frac, l1 - l0, l0);
@@ -44,8 +45,12 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
       // float(b1 - b0) is float(b1) - float(b0) exactly (small integers): one conversion fewer.
       byte = round_to_int<Arch>(vmadd<Fma>(frac, xsimd::to_float(b1 - b0), xsimd::to_float(b0)));
     }
-    out = out | (byte << (8 * c));
-  }
+    out = c == 0 ? byte : out | (byte << (8 * c));
+  };
+  channel(std::integral_constant<int, 0>{});
+  channel(std::integral_constant<int, 1>{});
+  channel(std::integral_constant<int, 2>{});
+  channel(std::integral_constant<int, 3>{});
   return out;
 }
 

@@ -2,6 +2,8 @@
 // pass over the depth.
 #pragma once
 
+#include <type_traits>
+
 #include "kernels/depth_formats_simd.hpp"
 #include "kernels/simd.hpp"
 
@@ -14,19 +16,25 @@ void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, flo
   REPROJECT_LANE_TYPES(Arch);
   const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
   const F key_far(f.key_far), p_far(f.p_far), limit(f.limit), near_bound(f.s * f.limit), one(1.0f);
+  const int width = f.source_width;  // a local: the stores may alias f's fields
   int i = 0;
+  // One loop per depth format and decode shape, without a branch per vector for either.
   with_depth_format(f.depth.format, [&](auto format) {
-    for (; i + L <= f.source_width; i += L) {
-      const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
-      if (stored) d.store_unaligned(stored + i);
-      F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
-      const F key = s * p;
-      p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
-      p = xsimd::select(key > limit, near_bound, p);
-      (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
-    }
+    auto columns = [&](auto affine) {
+      for (; i + L <= width; i += L) {
+        const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
+        if (stored) d.store_unaligned(stored + i);
+        F p = decltype(affine)::value ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
+        const F key = s * p;
+        p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
+        p = xsimd::select(key > limit, near_bound, p);
+        (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
+      }
+    };
+    if (f.affine) columns(std::true_type{});
+    else columns(std::false_type{});
   });
-  decode_parallax_columns<Fma>(f, depth, parallax, stored, i, f.source_width);
+  decode_parallax_columns<Fma>(f, depth, parallax, stored, i, width);
 }
 
 // The default near end's pass (scalar twin: nearest_key_in_columns): the same decode, reduced

@@ -24,6 +24,13 @@ inline int first_target_reached(int column, float p) {
   return column + static_cast<int>(Upwards ? std::ceil(p) : std::floor(p) + 1.0f);
 }
 
+// Where the surface point at `column` first reaches, as a target pixel clamped to [0, Wt]: the
+// boundary between the spans of sweep_in_order.
+template <bool Upwards>
+inline int reach_of(const float* parallax, int column, int guard, int width) {
+  return std::clamp(first_target_reached<Upwards>(column, parallax[column]) - guard, 0, width);
+}
+
 // The sweep's order, written once for the scalar sweep and its SIMD twins: the near extension,
 // the segments towards the far side, the far extension (b < 0, `Upwards`: columns 0 -> last).
 // Each is handed its span as target pixels [begin, end): where a column's surface point first
@@ -34,9 +41,8 @@ template <bool Upwards, class Extension, class Segment>
 inline void sweep_in_order(const Frame& f, const float* parallax, const Extension& extension, const Segment& segment) {
   const int last = f.source_width - 1;
   const int width = f.target_width;
-  auto reach = [&](int column) {
-    return std::clamp(first_target_reached<Upwards>(column, parallax[column]) - f.guard, 0, width);
-  };
+  const int guard = f.guard;
+  auto reach = [&](int column) { return reach_of<Upwards>(parallax, column, guard, width); };
   if constexpr (Upwards) {
     int begin = reach(0);
     extension(0, 0, begin);

@@ -44,31 +44,121 @@ xsimd::batch<float, Arch> segment_frac_v(const xsimd::batch<float, Arch>& target
   return xsimd::select(ratio < zero, zero, xsimd::select(one < ratio, one, ratio));  // std::clamp
 }
 
-// Pass 1 with clipping: the sweep of sweep_row, painting codes with masked stores. `margin` is
-// 2^-19 times the row's largest |p| (exact_may_clip): a segment whose nearer endpoint's key plus
-// it stays below key_near is nowhere nearer than the limit, wherever the scalar sweep
-// interpolates it (frac in [0, 1]): madd(frac, p1 - p0, p0) exceeds the nearer endpoint's key by
-// at most 2^-23 (|p0| + |p1|) (one rounding in p1 - p0, one in the madd), which is below 2^-20
-// (|p0| + |p1|) <= margin; and the float sum is below key_near only if the exact one is (rounding
-// is monotone, key_near is a float). Such segments (nearly all) take plain masked stores; those
-// whose farther endpoint's key minus the margin is above key_near are too near everywhere (the
-// same bound the other way) and paint nothing; the rest take the scalar sweep's own per-pixel
-// test, per lane.
+// Pass 1 without clipping: whole-vector stores, each spilling past its span on the far side of
+// the sweep (above it upwards, below it downwards), where the rest of the sweep paints again.
+template <class Arch, bool Upwards>
+struct WholeVectorPaint {
+  using F = typename Lanes<Arch>::F;
+  static constexpr int L = Lanes<Arch>::size;
+  float* owner;
+
+  // Whole vectors from the sweep's near side of [begin, end); nothing when it is empty.
+  void fill(const F& code, int begin, int end) const {
+    if constexpr (Upwards) {
+      for (int t = begin; t < end; t += L) code.store_unaligned(owner + t);
+    } else {
+      for (int t = end; t > begin; t -= L) code.store_unaligned(owner + t - L);
+    }
+  }
+  void extension(int column, int begin, int end) const {
+    fill(F(column == 0 ? kLeftExtension : kRightExtension), begin, end);
+  }
+  // Every segment, even an empty one (a fold), stores one vector at its near end.
+  void segment(int j, int begin, int end) const {
+    const F code(static_cast<float>(j));
+    if constexpr (Upwards) {
+      code.store_unaligned(owner + begin);
+      fill(code, begin + L, end);  // a stretched segment
+    } else {
+      code.store_unaligned(owner + end - L);
+      fill(code, begin, end - L);
+    }
+  }
+};
+
+template <class Arch, bool Upwards>
+void exact_paint(const Frame& f, const float* parallax, float* owner) {
+  const WholeVectorPaint<Arch, Upwards> paint{owner};
+  sweep_in_order<Upwards>(
+      f, parallax, [&](int column, int begin, int end) { paint.extension(column, begin, end); },
+      [&](int j, int begin, int end) { paint.segment(j, begin, end); });
+}
+
+// The clipping sweep's margins, from the frame: every decoded |p| is at most L = Ws + 2
+// (kernels/decode.cpp clamps it there).
+//  * `segment`: a segment whose nearer endpoint's key plus it stays below key_near is nowhere
+//    nearer than the limit, wherever the scalar sweep interpolates it (frac in [0, 1]):
+//    madd(frac, p1 - p0, p0) exceeds the nearer endpoint's key by at most 2^-23 (|p0| + |p1|)
+//    (one rounding in p1 - p0, one in the madd; two more without FMA stay below 2^-21 (|p0| +
+//    |p1|)), which is below 2^-19 L; and the float sum is below key_near only if the exact one is
+//    (rounding is monotone, key_near is a float). The same bound the other way: a segment whose
+//    farther endpoint's key minus it is above key_near is too near everywhere.
+//  * `column`: also covers pass 2's test of where a ray starts, x_near = t' - p_near, against the
+//    surface there: x_near and (t' - x_near) are each within 2^-24 (Ws + 2 L) of their exact
+//    values, so a ray can start behind the surface only where an endpoint's key exceeds key_near -
+//    segment - 2^-23 (Ws + 2 L); 2^-21 (Ws + 2 L) is four times that.
+struct ClipMargins {
+  float segment;
+  float column;
+};
+inline ClipMargins clip_margins(const Frame& f) {
+  const float segment = 0x1p-19f * f.limit;
+  return ClipMargins{segment, segment + 0x1p-21f * (static_cast<float>(f.source_width) + 2.0f * f.limit)};
+}
+
+// Columns [lo, hi] of a row whose key may reach the near limit: every other column c has
+// s p[c] + margins.column < key_near (the same float sum the tests use), so no segment between
+// two of them and no extension at one is too near, nor does a ray start behind the surface between
+// two of them (simd_exact's pass 2).
+struct NearColumns {
+  int lo;
+  int hi;
+};
+
+// Pass 1 with clipping: the sweep of sweep_row, where a surface nearer than the limit paints
+// nothing. Segments and extensions that touch `near` columns (the middle of the sweep) take
+// masked stores of their span: nearly all of those are plain (nowhere too near, by the segment
+// margin), some too near everywhere (nothing painted), the rest take the scalar sweep's own
+// per-pixel test, per lane. The others are plain and take exact_paint's whole-vector stores
+// where their spill is painted again: after the middle, always (the rest of the sweep paints
+// every target from the next span on); before it, when the spill stays short of the middle's
+// first span, because the spans in between cover every target from the next span to there (they
+// are consecutive intervals).
 template <class Arch, class Fma, bool Upwards>
-void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, float margin) {
+void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, float margin, NearColumns near) {
   REPROJECT_LANE_TYPES(Arch);
-  for (int t = 0; t < f.target_width; t += L) F(kFarDefault).store_unaligned(owner + t);
+  const WholeVectorPaint<Arch, Upwards> whole{owner};
+  const int last = f.source_width - 1;
+  const int width = f.target_width;
+  for (int t = 0; t < width; t += L) F(kFarDefault).store_unaligned(owner + t);
+  // Where the middle's first span (in sweep order) begins upwards, ends downwards: whole-vector
+  // stores before the middle must stay short of it. A span's stores reach at most L targets past
+  // its far end (or past its start when it is empty).
+  const int middle_start = Upwards ? (near.lo >= 1 ? reach_of<true>(parallax, near.lo - 1, f.guard, width) : 0)
+                                   : (near.hi < last ? reach_of<false>(parallax, near.hi + 1, f.guard, width) : width);
+  auto whole_stores_fit = [&](int column, int begin, int end) {
+    if constexpr (Upwards) return column > near.hi || std::max(begin, end) + L <= middle_start;
+    else return column < near.lo || std::min(begin, end) - L >= middle_start;
+  };
   // Code `code` onto targets [begin, end).
   auto paint = [&](float code, int begin, int end) {
     const F value(code);
     for (int t = begin; t < end; t += L) store_first_lanes<Arch>(value, owner + t, end - t);
   };
   auto paint_extension = [&](int column, int begin, int end) {
-    if (f.s * parallax[column] > f.key_near) return;  // the whole extension is too near
+    if (column < near.lo || column > near.hi) {  // plain
+      if (whole_stores_fit(column, begin, end)) return whole.extension(column, begin, end);
+    } else if (f.s * parallax[column] > f.key_near) {
+      return;  // the whole extension is too near
+    }
     paint(column == 0 ? kLeftExtension : kRightExtension, begin, end);
   };
   const F lanes = lane_offsets<Arch>(), s(f.s), key_near(f.key_near), guard(static_cast<float>(f.guard));
   auto paint_segment = [&](int j, int begin, int end) {
+    if (j + 1 < near.lo || j > near.hi) {  // plain: neither end is near
+      if (whole_stores_fit(j, begin, end)) return whole.segment(j, begin, end);
+      return paint(static_cast<float>(j), begin, end);
+    }
     if (begin >= end) return;  // a fold
     const float p0 = parallax[j];
     const float p1 = parallax[j + 1];
@@ -87,58 +177,40 @@ void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, f
   sweep_in_order<Upwards>(f, parallax, paint_extension, paint_segment);
 }
 
-// Pass 1 without clipping: whole-vector stores (see above), each spilling past its span on the
-// far side of the sweep (above it upwards, below it downwards).
-template <class Arch, bool Upwards>
-void exact_paint(const Frame& f, const float* parallax, float* owner) {
-  REPROJECT_LANE_TYPES(Arch);
-  // Whole vectors from the sweep's near side of [begin, end); nothing when it is empty.
-  auto fill = [&](const F& code, int begin, int end) {
-    if constexpr (Upwards) {
-      for (int t = begin; t < end; t += L) code.store_unaligned(owner + t);
-    } else {
-      for (int t = end; t > begin; t -= L) code.store_unaligned(owner + t - L);
-    }
-  };
-  auto paint_extension = [&](int column, int begin, int end) {
-    fill(F(column == 0 ? kLeftExtension : kRightExtension), begin, end);
-  };
-  // Every segment, even an empty one (a fold), stores one vector at its near end.
-  auto paint_segment = [&](int j, int begin, int end) {
-    const F code(static_cast<float>(j));
-    if constexpr (Upwards) {
-      code.store_unaligned(owner + begin);
-      fill(code, begin + L, end);  // a stretched segment
-    } else {
-      code.store_unaligned(owner + end - L);
-      fill(code, begin, end - L);
-    }
-  };
-  sweep_in_order<Upwards>(f, parallax, paint_extension, paint_segment);
-}
-
-// The row's nearest key against the near limit (sweep_row's may_clip), with the vector max; and
-// exact_paint_clipping's margin, from the row's largest |p|.
+// Whether the row clips (sweep_row's may_clip: its nearest key, with the vector max, is beyond
+// key_near), and if so its near columns, found in the same pass.
 template <class Arch>
-bool exact_may_clip(const Frame& f, const float* parallax, float* margin) {
+bool exact_may_clip(const Frame& f, const float* parallax, float column_margin, NearColumns* near) {
   REPROJECT_LANE_TYPES(Arch);
   if (f.near_from_frame) return false;  // the frame's own nearest: nothing is clipped
-  const F s(f.s);
-  F nearest(f.key_far), largest(0.0f);
+  const int width = f.source_width;
+  auto near_at = [&](int c) { return f.s * parallax[c] + column_margin >= f.key_near; };
+  const F s(f.s), margin_v(column_margin), key_near(f.key_near);
+  F nearest(f.key_far);
+  int first = -1, last = -1;  // the first and last vectors with a near column
   int j = 0;
-  for (; j + L <= f.source_width; j += L) {
-    const F p = F::load_unaligned(parallax + j);
-    nearest = vmax(nearest, s * p);
-    largest = vmax(largest, xsimd::abs(p));
+  for (; j + L <= width; j += L) {
+    const F key = s * F::load_unaligned(parallax + j);
+    nearest = vmax(nearest, key);
+    if (xsimd::any(key + margin_v >= key_near)) {
+      if (first < 0) first = j;
+      last = j;
+    }
   }
   float key = lane_max<Arch>(nearest);
-  float magnitude = lane_max<Arch>(largest);
-  for (; j < f.source_width; ++j) {
-    key = std::max(key, f.s * parallax[j]);
-    magnitude = std::max(magnitude, std::fabs(parallax[j]));
+  for (int c = j; c < width; ++c) key = std::max(key, f.s * parallax[c]);
+  if (!(key > f.key_near)) return false;  // max is exact: only the order of equal keys differs, not the test
+  // A column's key exceeds key_near: it is near, so both searches below stop inside the row.
+  int lo = first >= 0 ? first : j;
+  while (!near_at(lo)) ++lo;
+  int hi = width - 1;
+  while (hi >= j && !near_at(hi)) --hi;  // the tail
+  if (hi < j) {
+    hi = last + L - 1;
+    while (!near_at(hi)) --hi;
   }
-  *margin = magnitude * 0x1p-19f;
-  return key > f.key_near;  // max is exact: only the order of equal keys differs, not the test
+  *near = NearColumns{lo, hi};
+  return true;
 }
 
 template <class Arch, class Fma>
@@ -152,18 +224,28 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
   }
   const float* parallax = scratch.parallax;
   float* owner = scratch.owner_storage.data() + kOwnerPad;
-  float margin = 0.0f;
-  const bool may_clip = exact_may_clip<Arch>(f, parallax, &margin);
+  const ClipMargins margins = clip_margins(f);
+  NearColumns near{0, -1};
+  const bool may_clip = exact_may_clip<Arch>(f, parallax, margins.column, &near);
   if (!may_clip && f.s < 0.0f) exact_paint<Arch, true>(f, parallax, owner);
   else if (!may_clip) exact_paint<Arch, false>(f, parallax, owner);
-  else if (f.s < 0.0f) exact_paint_clipping<Arch, Fma, true>(f, parallax, owner, margin);
-  else exact_paint_clipping<Arch, Fma, false>(f, parallax, owner, margin);
+  else if (f.s < 0.0f) exact_paint_clipping<Arch, Fma, true>(f, parallax, owner, margins.segment, near);
+  else exact_paint_clipping<Arch, Fma, false>(f, parallax, owner, margins.segment, near);
 
   // Pass 2: source x across the lanes, then (with clipping) sweep_row's clipped test.
   const F zero(0.0f), one(1.0f), guard(static_cast<float>(f.guard)), lanes = lane_offsets<Arch>();
   const F left_parallax(parallax[0]), right_parallax(parallax[last]), p_far(f.p_far), p_near(f.p_near), s(f.s);
   float* xs = scratch.source_x.data();
   float* clipped = scratch.clipped.data();
+  // Whether the rays of targets [t, t + L) start between columns of which one may be near: their
+  // x_near grow with t, and the padding repeats the edge columns.
+  auto ray_starts_may_be_near = [&](int t) {
+    const float first = std::floor(static_cast<float>(t + f.guard) - f.p_near);
+    const float after = std::floor(static_cast<float>(t + L - 1 + f.guard) - f.p_near) + 1.0f;
+    const float lo = std::clamp(first, 0.0f, static_cast<float>(last));
+    const float hi = std::clamp(after, 0.0f, static_cast<float>(last));
+    return !(hi < static_cast<float>(near.lo) || lo > static_cast<float>(near.hi));
+  };
   int t = 0;
   for (; t + L <= width; t += L) {
     const F code = F::load_unaligned(owner + t);
@@ -177,7 +259,7 @@ void simd_exact(const Frame& f, RowScratch& scratch) {
                                           xsimd::select(code == F(kRightExtension), right_parallax, p_far));
     F x = xsimd::select(extension, target - edge_parallax, j + frac);
     B clip(false);
-    if (may_clip) {
+    if (may_clip && ray_starts_may_be_near(t)) {
       // Rays that start behind the surface at the near end: x_near, clipped (parallax_at<Fma>).
       const F x_near = target - p_near;
       const F column = vfloor(x_near);

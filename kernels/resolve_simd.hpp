@@ -1,5 +1,12 @@
 // Internal: SIMD twin of kernels/resolve.cpp, the resolve stage every method shares
 // (docs/DESIGN.md §6 "One resolve stage for all").
+//
+// A row's vectors take one of two paths. Nearly all of them, on any scene, are plain hits: every
+// lane's source x lies in the row, no lane is clipped and no lane straddles a wall. Those run a
+// loop compiled once per colour path and with or without the depth output (resolve_hits), with
+// nothing in it that only the rare vectors need. A vector with any other lane (outside, clipped,
+// a hole) goes to resolve_vector, the general case, which handles every mix; for the hit lanes it
+// computes exactly what the hit loop computes, so a vector's bits do not depend on its path.
 #pragma once
 
 #include "kernels/color_formats_simd.hpp"
@@ -9,148 +16,338 @@
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
+// How a row's colour is read and written: a float per lane and plane; a pixel per 128-bit
+// register (float RGBA, rgba16f); a 32-bit word per lane (rgba8, rgba8_srgb).
+enum class ColourPath { planes, float_rgba, half_rgba, rgba8, rgba8_srgb };
+
+inline ColourPath colour_path_of(const Frame& f) {
+  switch (f.color_format) {
+    case ColorFormat::rgba8: return ColourPath::rgba8;
+    case ColorFormat::rgba8_srgb: return ColourPath::rgba8_srgb;
+    case ColorFormat::rgba16f: return ColourPath::half_rgba;
+    case ColorFormat::float32: break;
+  }
+  return f.source.color.layout == ColorLayout::interleaved_rgba ? ColourPath::float_rgba : ColourPath::planes;
+}
+
+// What every vector of row y shares: its rows, outputs and the frame's choices.
+template <class Arch>
+struct ResolveRow {
+  using F = typename Lanes<Arch>::F;
+
+  ResolveRow(const Frame& frame, int y, const RowScratch& scratch)
+      : f(frame),
+        path(colour_path_of(frame)),
+        planes(path == ColourPath::planes ? frame.source.color.channels : 1),
+        parallax(scratch.parallax),
+        source_x(scratch.source_x.data()),
+        clipped(scratch.clipped.data()),
+        float_depth(frame.depth.format == DepthFormat::float32),
+        depth_words_read(!depth_row_kept(frame)),
+        depth(depth_words_read ? reinterpret_cast<const float*>(frame.depth.row(y)) : scratch.stored_depth.data()),
+        depth_bytes(bytes_per_pixel(frame.depth.format)),
+        depth_out(frame.depth_out.data ? frame.depth_out.row(y) : nullptr),
+        status_out(frame.target.status.data ? frame.target.status.row(y) : nullptr),
+        x_out(frame.target.source_x.data ? frame.target.source_x.row(y) : nullptr),
+        last(static_cast<float>(frame.source_width - 1)),
+        tau(frame.hole_threshold),
+        s(frame.s),
+        fill_foreground(frame.hole_fill == HoleFill::foreground),
+        holes_written(frame.hole_fill != HoleFill::none),
+        edges_written(frame.edge != EdgeMode::none),
+        mirror_edges(frame.edge == EdgeMode::mirror),
+        black_edges(frame.edge == EdgeMode::black) {
+    const bool float_planes = frame.color_format == ColorFormat::float32;
+    // The next row's depth and colour, read while this row computes (the last row: itself).
+    const int next = y + 1 < frame.height ? y + 1 : y;
+    next_depth = frame.depth.row(next) + static_cast<std::ptrdiff_t>(frame.guard) * depth_bytes;
+    for (int c = 0; c < planes; ++c) {
+      next_source[c] = (float_planes ? reinterpret_cast<const std::uint8_t*>(frame.source.color.plane[c].row(next))
+                                     : frame.source.color.pixels.row(next));
+      source[c] = float_planes ? reinterpret_cast<const std::uint8_t*>(frame.source.color.plane[c].row(y))
+                               : frame.source.color.pixels.row(y);
+      target[c] = float_planes ? reinterpret_cast<std::uint8_t*>(frame.target.color.plane[c].row(y))
+                               : frame.target.color.pixels.row(y);
+    }
+  }
+
+  const Frame& f;
+  ColourPath path;
+  int planes;
+  const std::uint8_t* source[4] = {};
+  const std::uint8_t* next_source[4] = {};
+  const std::uint8_t* next_depth = nullptr;
+  std::uint8_t* target[4] = {};
+  const float* parallax;
+  const float* source_x;
+  const float* clipped;
+  // Depth is interpolated from the row's own 32-bit columns (floats, or words decoded in
+  // registers), or for D16 from the values the decode kept.
+  bool float_depth;
+  bool depth_words_read;
+  const float* depth;
+  int depth_bytes;
+  std::uint8_t* depth_out;
+  std::uint8_t* status_out;
+  float* x_out;
+  F last, tau, s;
+  bool fill_foreground, holes_written, edges_written, mirror_edges, black_edges;
+};
+
+// Bytes of a pixel in one colour plane.
+constexpr int pixel_bytes_of(ColourPath path) {
+  return path == ColourPath::float_rgba ? 16 : path == ColourPath::half_rgba ? 8 : 4;
+}
+
+// The next row's depth and colour at the columns of target pixels [t, t + L), asked for while this
+// row computes, so that the next row's decode and resolve find them in the cache instead of
+// waiting for them stage by stage (same-run A/B, 1080p, 1 thread: float RGBA and rgba16f 6-14 %
+// faster, rgba8 0-4 %). Not for float planes: their resolve reads a kilobyte ahead in each plane
+// already, and five more prefetches per vector made them 4-5 % slower.
+template <ColourPath Path, class Arch>
+REPROJECT_ALWAYS_INLINE inline void prefetch_next_row(const ResolveRow<Arch>& row, int t) {
+  constexpr int L = Lanes<Arch>::size;
+  constexpr int kBytes = L * pixel_bytes_of(Path);
+  if constexpr (Path == ColourPath::planes) return;
+  __builtin_prefetch(row.next_depth + static_cast<std::ptrdiff_t>(t) * row.depth_bytes);
+  for (int c = 0; c < row.planes; ++c) {
+    const std::uint8_t* next = row.next_source[c] + static_cast<std::ptrdiff_t>(t) * pixel_bytes_of(Path);
+    for (int line = 0; line < kBytes; line += 64) __builtin_prefetch(next + line);
+  }
+}
+
+// One output vector: lanes in `black` (when any_black) are zero, and with `masked` only the
+// lanes in `write` are stored (the others keep the caller's values). The hit loop passes false
+// for both, and the selects fold away.
+template <class Arch>
+REPROJECT_ALWAYS_INLINE inline void store_lanes(float* out, const xsimd::batch<float, Arch>& value,
+                                                const xsimd::batch_bool<float, Arch>& write,
+                                                const xsimd::batch_bool<float, Arch>& black, bool masked, bool any_black) {
+  using F = xsimd::batch<float, Arch>;
+  const F v = any_black ? xsimd::select(black, F(0.0f), value) : value;
+  (masked ? xsimd::select(write, v, F::load_unaligned(out)) : v).store_unaligned(out);
+}
+
+// The colour of target pixels [t, t + L): columns j0 and j1 blended at frac (scalar twin:
+// ColorRow::write). `fetch` reads a row's values at both column sets (ColumnFetch::visit).
+template <ColourPath Path, class Arch, class Fma, class Fetch>
+REPROJECT_ALWAYS_INLINE inline void write_colour(const ResolveRow<Arch>& row, const Fetch& fetch, int t,
+                                                 const xsimd::batch<float, Arch>& j0, const xsimd::batch<float, Arch>& j1,
+                                                 const xsimd::batch<float, Arch>& frac,
+                                                 const xsimd::batch_bool<float, Arch>& write,
+                                                 const xsimd::batch_bool<float, Arch>& black, bool masked, bool any_black) {
+  REPROJECT_LANE_TYPES(Arch);
+  const std::ptrdiff_t out_byte = static_cast<std::ptrdiff_t>(t) * pixel_bytes_of(Path);
+  if constexpr (Path == ColourPath::float_rgba || Path == ColourPath::half_rgba) {
+    using Pixel = std::conditional_t<Path == ColourPath::float_rgba, FloatRgbaPixel, HalfRgbaPixel>;
+    resolve_rgba_pixels<Arch, Fma, Pixel>(row.source[0], row.target[0] + out_byte, j0, j1, frac, ~write, black,
+                                          masked || any_black);
+  } else if constexpr (Path == ColourPath::rgba8 || Path == ColourPath::rgba8_srgb) {
+    F c0, c1;
+    fetch(reinterpret_cast<const float*>(row.source[0]), c0, c1);
+    const I blended = blend_rgba8<Arch, Fma, Path == ColourPath::rgba8_srgb>(row.f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac);
+    store_lanes<Arch>(reinterpret_cast<float*>(row.target[0] + out_byte), float_bits<Arch>(blended), write, black, masked,
+                      any_black);
+  } else {
+    for (int c = 0; c < row.planes; ++c) {
+      // A kilobyte ahead in each colour plane: a measured 1-3 % over the hardware prefetcher
+      // alone, which tracks this many streams less well.
+      __builtin_prefetch(row.source[c] + 4 * t + 1024);
+      F c0, c1;
+      fetch(reinterpret_cast<const float*>(row.source[c]), c0, c1);
+      store_lanes<Arch>(reinterpret_cast<float*>(row.target[c] + out_byte), vmadd<Fma>(frac, c1 - c0, c0), write, black,
+                        masked, any_black);
+    }
+  }
+}
+
+// The output depth of target pixels [t, t + L) (scalar twin: interpolate_depth and depth_word in
+// resolve_pixels).
+template <class Arch, class Fma, class Fetch>
+REPROJECT_ALWAYS_INLINE inline void write_depth(const ResolveRow<Arch>& row, const Fetch& fetch, int t,
+                                                const xsimd::batch<float, Arch>& frac,
+                                                const xsimd::batch_bool<float, Arch>& write, bool masked) {
+  REPROJECT_LANE_TYPES(Arch);
+  const Frame& f = row.f;
+  const F one(1.0f);
+  F d0, d1;
+  fetch(row.depth, d0, d1);
+  const I kept = bits_of<Arch>(d0);  // the word of column j0: its bits that are not depth
+  if (row.depth_words_read && !row.float_depth) {
+    d0 = depth_values_of_words<Arch, Fma>(f, kept);
+    d1 = depth_values_of_words<Arch, Fma>(f, bits_of<Arch>(d1));
+  }
+  F d;
+  if (f.affine) {
+    d = vmadd<Fma>(frac, d1 - d0, d0);
+  } else {
+    const F w0 = vdiv(one, d0);
+    d = vdiv(one, vmadd<Fma>(frac, vdiv(one, d1) - w0, w0));
+  }
+  std::uint8_t* out = row.depth_out + static_cast<std::ptrdiff_t>(t) * row.depth_bytes;
+  const B none(false);
+  if (row.float_depth) {
+    store_lanes<Arch>(reinterpret_cast<float*>(out), d, write, none, masked, false);
+  } else {
+    const I words = depth_words<Arch>(f, d, kept);
+    if (row.depth_bytes == 4) {
+      store_lanes<Arch>(reinterpret_cast<float*>(out), float_bits<Arch>(words), write, none, masked, false);
+    } else {
+      store_u16<Arch>(words, write, masked, out);
+    }
+  }
+}
+
+// Target pixels [t, t + L) whatever their lanes hold (scalar twin: resolve_pixels).
+// `counts`: vectors per column-fetch mode, added to the thread's FetchModeCounts once per row.
+template <class Arch, class Fma>
+__attribute__((noinline)) void resolve_vector(const ResolveRow<Arch>& row, int t, FetchModeCounts& counts) {
+  REPROJECT_LANE_TYPES(Arch);
+  const F zero(0.0f), one(1.0f);
+  const F x = F::load_unaligned(row.source_x + t);
+  const B clipped = load_flags<Arch>(row.clipped + t);
+  const B outside = ((x < zero) | (x > row.last)) & ~clipped;
+  F xs = x;
+  if (row.mirror_edges) {  // reflected about the edge pixel's centre (then clamped)
+    xs = xsimd::select(outside & (x < zero), -x, xsimd::select(outside & (x > row.last), (row.last - x) + row.last, x));
+  }
+  const F xc = vmin(vmax(xs, zero), row.last);  // == x in the row
+  F j0 = vfloor(xc);
+  F j1 = vmin(j0 + one, row.last);
+  F frac = xc - j0;
+  // Every column read below lies in [j0, j1] (a fill picks one of the two).
+  ColumnFetch<Arch> columns(j0, j1, row.f.source_width);
+  ++counts.vectors[static_cast<int>(columns.mode())];
+  F p0, p1;
+  columns.fetch(row.parallax, p0, p1);
+  const B hole = ((p1 - p0) > row.tau) & ~(clipped | outside);
+  const bool any_hole = xsimd::any(hole);
+  if (any_hole) {
+    // A wall (DESIGN §5): the farther endpoint has the smaller key s * p.
+    const B j1_farther = row.s * p1 < row.s * p0;
+    const F farther = xsimd::select(j1_farther, j1, j0);
+    const F nearer = xsimd::select(j1_farther, j0, j1);
+    const F fill = row.fill_foreground ? nearer : farther;
+    j0 = xsimd::select(hole, fill, j0);
+    j1 = xsimd::select(hole, fill, j1);
+    frac = xsimd::select(hole, zero, frac);
+    columns.bind(j0, j1);
+    ++counts.vectors[static_cast<int>(columns.mode())];
+  }
+  // Lanes whose colour and depth are left to the caller keep the target's values.
+  const bool masked = (!row.edges_written && xsimd::any(outside)) || (!row.holes_written && any_hole);
+  const B write = ~((outside & B(!row.edges_written)) | (hole & B(!row.holes_written)));
+  const B black = outside & B(row.black_edges);
+  const bool any_black = row.black_edges && xsimd::any(black);
+  columns.visit([&](const auto& fetch) {
+    switch (row.path) {
+      case ColourPath::planes:
+        write_colour<ColourPath::planes, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
+        break;
+      case ColourPath::float_rgba:
+        write_colour<ColourPath::float_rgba, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
+        break;
+      case ColourPath::half_rgba:
+        write_colour<ColourPath::half_rgba, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
+        break;
+      case ColourPath::rgba8:
+        write_colour<ColourPath::rgba8, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
+        break;
+      case ColourPath::rgba8_srgb:
+        write_colour<ColourPath::rgba8_srgb, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
+        break;
+    }
+    if (row.depth_out) write_depth<Arch, Fma>(row, fetch, t, frac, write, masked);
+  });
+  if (row.status_out) {
+    store_bytes<Arch>(xsimd::select(clipped, F(3.0f), xsimd::select(outside, F(2.0f), xsimd::select(hole, one, zero))),
+                      row.status_out + t);
+  }
+  if (row.x_out) x.store_unaligned(row.x_out + t);
+}
+
+// Colour and depth of hit pixels [t, t + L) (every lane written, none black) for one column
+// fetch: ColumnFetch::visit's body in the hit loop. A functor so that it can be forced inline:
+// GCC kept the equivalent lambda out of line, and the call per vector (its vector arguments
+// passed through memory) made the planar float path 15-20 % slower (same-run A/B, `single`).
+template <ColourPath Path, bool WithDepth, class Arch, class Fma>
+struct WriteHits {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  const ResolveRow<Arch>& row;
+  int t;
+  F j0, j1, frac;
+
+  template <class Fetch>
+  REPROJECT_ALWAYS_INLINE void operator()(const Fetch& fetch) const {
+    const B none(false);
+    write_colour<Path, Arch, Fma>(row, fetch, t, j0, j1, frac, ~none, none, false, false);
+    if constexpr (WithDepth) write_depth<Arch, Fma>(row, fetch, t, frac, ~none, false);
+  }
+};
+
+// The row's vectors (target pixels [0, whole)), each either a plain hit, done here, or handed
+// to resolve_vector. For the hit lanes resolve_vector computes the same: outside and clipped
+// are false, so xs = x, the clamp leaves x (but turns -0 into +0: kept as vmax), no lane is
+// masked or black, and the status is hit (0).
+template <ColourPath Path, bool WithDepth, class Arch, class Fma>
+void resolve_hits(const ResolveRow<Arch>& whole_row, int whole, FetchModeCounts& counts) {
+  REPROJECT_LANE_TYPES(Arch);
+  // A copy the compiler can keep in registers: the stores below go through byte pointers, which
+  // may alias anything, so fields read through a reference would be reloaded after each of them.
+  const ResolveRow<Arch> row = whole_row;
+  const F zero(0.0f), one(1.0f);
+  FetchModeCounts hits{};
+  for (int t = 0; t < whole; t += L) {
+    const F x = F::load_unaligned(row.source_x + t);
+    const F flags = F::load_unaligned(row.clipped + t);
+    // All in [0, last] and none clipped (a NaN x fails too, and takes the general path).
+    if (!xsimd::all((x >= zero) & (x <= row.last) & (flags == zero))) {
+      resolve_vector<Arch, Fma>(whole_row, t, counts);
+      continue;
+    }
+    const F xc = vmax(x, zero);
+    const F j0 = vfloor(xc);
+    const F j1 = vmin(j0 + one, row.last);
+    const F frac = xc - j0;
+    const ColumnFetch<Arch> columns(j0, j1, row.f.source_width);
+    F p0, p1;
+    columns.fetch(row.parallax, p0, p1);
+    if (xsimd::any((p1 - p0) > row.tau)) {  // a wall: a hole's fill
+      resolve_vector<Arch, Fma>(whole_row, t, counts);
+      continue;
+    }
+    ++hits.vectors[static_cast<int>(columns.mode())];
+    prefetch_next_row<Path>(row, t);
+    columns.visit(WriteHits<Path, WithDepth, Arch, Fma>{row, t, j0, j1, frac});
+    if (row.status_out) store_bytes<Arch>(zero, row.status_out + t);
+    if (row.x_out) x.store_unaligned(row.x_out + t);
+  }
+  for (int m = 0; m < 4; ++m) counts.vectors[m] += hits.vectors[m];
+}
+
+template <ColourPath Path, class Arch, class Fma>
+void resolve_hits_of_path(const ResolveRow<Arch>& row, int whole, FetchModeCounts& counts) {
+  if (row.depth_out) resolve_hits<Path, true, Arch, Fma>(row, whole, counts);
+  else resolve_hits<Path, false, Arch, Fma>(row, whole, counts);
+}
+
 // Scalar twin: resolve_pixels.
 template <class Arch, class Fma>
 void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
-  REPROJECT_LANE_TYPES(Arch);
-  const bool interleaved = f.source.color.layout == ColorLayout::interleaved_rgba;
-  const ColorFormat format = f.color_format;
-  // rgba8 and rgba8_srgb: a pixel is a 32-bit word, read with the column plan like a float;
-  // float RGBA and rgba16f: a pixel per 128-bit vector; float planes: a float per lane and plane.
-  const bool word_pixels = format == ColorFormat::rgba8 || format == ColorFormat::rgba8_srgb;
-  const bool vector_pixels = interleaved && !word_pixels;
-  const int planes = interleaved ? 1 : f.source.color.channels;
-  const std::uint8_t* source[4];
-  std::uint8_t* target[4];
-  for (int c = 0; c < planes; ++c) {
-    source[c] = format == ColorFormat::float32 ? reinterpret_cast<const std::uint8_t*>(f.source.color.plane[c].row(y))
-                                               : f.source.color.pixels.row(y);
-    target[c] = format == ColorFormat::float32 ? reinterpret_cast<std::uint8_t*>(f.target.color.plane[c].row(y))
-                                               : f.target.color.pixels.row(y);
+  constexpr int L = Lanes<Arch>::size;
+  const ResolveRow<Arch> row(f, y, scratch);
+  const int whole = f.target_width / L * L;
+  FetchModeCounts counts{};
+  switch (row.path) {
+    case ColourPath::planes: resolve_hits_of_path<ColourPath::planes, Arch, Fma>(row, whole, counts); break;
+    case ColourPath::float_rgba: resolve_hits_of_path<ColourPath::float_rgba, Arch, Fma>(row, whole, counts); break;
+    case ColourPath::half_rgba: resolve_hits_of_path<ColourPath::half_rgba, Arch, Fma>(row, whole, counts); break;
+    case ColourPath::rgba8: resolve_hits_of_path<ColourPath::rgba8, Arch, Fma>(row, whole, counts); break;
+    case ColourPath::rgba8_srgb: resolve_hits_of_path<ColourPath::rgba8_srgb, Arch, Fma>(row, whole, counts); break;
   }
-  const int pixel_bytes = format == ColorFormat::float32 ? (interleaved ? 16 : 4) : bytes_per_pixel(format);
-  const float* parallax = scratch.parallax;
-  // Depth is interpolated from the row's own 32-bit columns (floats, or words decoded in
-  // registers), or for D16 from the values the decode kept.
-  const std::uint8_t* depth_row = f.depth.row(y);
-  const bool float_depth = f.depth.format == DepthFormat::float32;
-  const bool depth_words_read = !depth_row_kept(f);
-  const float* depth = depth_words_read ? reinterpret_cast<const float*>(depth_row) : scratch.stored_depth.data();
-  const int depth_bytes = bytes_per_pixel(f.depth.format);
-  std::uint8_t* depth_out = f.depth_out.data ? f.depth_out.row(y) : nullptr;
-  std::uint8_t* status_out = f.target.status.data ? f.target.status.row(y) : nullptr;
-  float* x_out = f.target.source_x.data ? f.target.source_x.row(y) : nullptr;
-  const F zero(0.0f), one(1.0f), last(static_cast<float>(f.source_width - 1)), tau(f.hole_threshold), s(f.s);
-  const bool fill_foreground = f.hole_fill == HoleFill::foreground;
-  const bool edges_written = f.edge != EdgeMode::none;
-  const bool mirror_edges = f.edge == EdgeMode::mirror;
-  const bool black_edges = f.edge == EdgeMode::black;
-  const bool holes_written = f.hole_fill != HoleFill::none;
-
-  int t = 0;
-  for (; t + L <= f.target_width; t += L) {
-    const F x = F::load_unaligned(scratch.source_x.data() + t);
-    const B clipped = load_flags<Arch>(scratch.clipped.data() + t);
-    const B outside = ((x < zero) | (x > last)) & ~clipped;
-    F xs = x;
-    if (mirror_edges) {  // reflected about the edge pixel's centre (then clamped)
-      xs = xsimd::select(outside & (x < zero), -x, xsimd::select(outside & (x > last), (last - x) + last, x));
-    }
-    const F xc = vmin(vmax(xs, zero), last);  // == x in the row
-    F j0 = vfloor(xc);
-    F j1 = vmin(j0 + one, last);
-    F frac = xc - j0;
-    // Every column read below lies in [j0, j1] (a fill picks one of the two).
-    ColumnFetch<Arch> columns(j0, j1, f.source_width);
-    F p0, p1;
-    columns.fetch(parallax, p0, p1);
-    const B hole = ((p1 - p0) > tau) & ~(clipped | outside);
-    const bool any_hole = xsimd::any(hole);
-    if (any_hole) {
-      // A wall (DESIGN §5): the farther endpoint has the smaller key s * p.
-      const B j1_farther = s * p1 < s * p0;
-      const F farther = xsimd::select(j1_farther, j1, j0);
-      const F nearer = xsimd::select(j1_farther, j0, j1);
-      const F fill = fill_foreground ? nearer : farther;
-      j0 = xsimd::select(hole, fill, j0);
-      j1 = xsimd::select(hole, fill, j1);
-      frac = xsimd::select(hole, zero, frac);
-      columns.bind(j0, j1);
-    }
-    // Lanes whose colour and depth are left to the caller keep the target's values.
-    const bool masked = (!edges_written && xsimd::any(outside)) || (!holes_written && any_hole);
-    const B write = ~((outside & B(!edges_written)) | (hole & B(!holes_written)));
-    auto store = [&](float* out, const F& value) {
-      (masked ? xsimd::select(write, value, F::load_unaligned(out)) : value).store_unaligned(out);
-    };
-    const std::ptrdiff_t out_byte = static_cast<std::ptrdiff_t>(t) * pixel_bytes;
-    if (vector_pixels) {
-      const B black = outside & B(black_edges);
-      const bool special = masked || (black_edges && xsimd::any(black));
-      if (format == ColorFormat::rgba16f) {
-        resolve_rgba_pixels<Arch, Fma, HalfRgbaPixel>(source[0], target[0] + out_byte, j0, j1, frac, ~write, black, special);
-      } else {
-        resolve_rgba_pixels<Arch, Fma, FloatRgbaPixel>(source[0], target[0] + out_byte, j0, j1, frac, ~write, black, special);
-      }
-    } else if (!word_pixels) {
-      // A kilobyte ahead in each colour plane: a measured 1-3 % over the hardware prefetcher
-      // alone, which tracks this many streams less well.
-      for (int c = 0; c < planes; ++c) __builtin_prefetch(source[c] + 4 * t + 1024);
-    }
-    columns.visit([&](const auto& fetch) {
-      auto store_color = [&](int c, const F& value) {
-        store(reinterpret_cast<float*>(target[c] + out_byte), black_edges ? xsimd::select(outside, zero, value) : value);
-      };
-      if (vector_pixels) {
-        // colour done above
-      } else if (word_pixels) {  // one plane of words (not in the planes' loop: it kept registers on the stack)
-        F c0, c1;
-        fetch(reinterpret_cast<const float*>(source[0]), c0, c1);
-        const auto w0 = bits_of<Arch>(c0), w1 = bits_of<Arch>(c1);
-        store_color(0, float_bits<Arch>(format == ColorFormat::rgba8 ? blend_rgba8<Arch, Fma, false>(f, w0, w1, frac)
-                                                                     : blend_rgba8<Arch, Fma, true>(f, w0, w1, frac)));
-      } else {
-        for (int c = 0; c < planes; ++c) {
-          F c0, c1;
-          fetch(reinterpret_cast<const float*>(source[c]), c0, c1);
-          store_color(c, vmadd<Fma>(frac, c1 - c0, c0));
-        }
-      }
-      if (depth_out) {
-        F d0, d1;
-        fetch(depth, d0, d1);
-        const auto kept = bits_of<Arch>(d0);  // the word of column j0: its bits that are not depth
-        if (depth_words_read && !float_depth) {
-          d0 = depth_values_of_words<Arch, Fma>(f, kept);
-          d1 = depth_values_of_words<Arch, Fma>(f, bits_of<Arch>(d1));
-        }
-        F d;
-        if (f.affine) {
-          d = vmadd<Fma>(frac, d1 - d0, d0);
-        } else {
-          const F w0 = vdiv(one, d0);
-          d = vdiv(one, vmadd<Fma>(frac, vdiv(one, d1) - w0, w0));
-        }
-        float* out = reinterpret_cast<float*>(depth_out + static_cast<std::ptrdiff_t>(t) * depth_bytes);
-        if (float_depth) {
-          store(out, d);
-        } else {
-          const auto words = depth_words<Arch>(f, d, kept);
-          if (depth_bytes == 4) {
-            store(out, float_bits<Arch>(words));
-          } else {
-            store_u16<Arch>(words, write, masked, depth_out + 2 * static_cast<std::ptrdiff_t>(t));
-          }
-        }
-      }
-    });
-    if (status_out) {
-      store_bytes<Arch>(xsimd::select(clipped, F(3.0f), xsimd::select(outside, F(2.0f), xsimd::select(hole, one, zero))),
-                        status_out + t);
-    }
-    if (x_out) x.store_unaligned(x_out + t);
-  }
-  resolve_pixels<Fma>(f, y, scratch, t, f.target_width);  // the tail
+  for (int m = 0; m < 4; ++m) t_fetch_modes.vectors[m] += counts.vectors[m];
+  resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ xsimd::batch_bool<float, Arch> load_flags(const float* in) {
 //    per set;
 //  * otherwise gathers.
 // The calling thread's FetchModeCounts of this table (this TU's copy: the namespace is anonymous).
-// initial-exec: one fs-relative add per vector, not a __tls_get_addr call.
+// initial-exec: an fs-relative access, not a __tls_get_addr call.
 __attribute__((tls_model("initial-exec"))) inline thread_local FetchModeCounts t_fetch_modes{};
 inline FetchModeCounts* fetch_modes_of_thread() { return &t_fetch_modes; }
 
@@ -104,11 +104,9 @@ class ColumnFetch {
   // least `row_length` columns; every load stays inside them.
   ColumnFetch(const F& first, const F& second, int row_length) : row_length_(row_length) { bind(first, second); }
 
-  // (Re)plans for new column sets (hole fills).
-  void bind(const F& first, const F& second) {
-    mode_ = plan(first, second);
-    ++t_fetch_modes.vectors[static_cast<int>(mode_)];
-  }
+  // (Re)plans for new column sets (hole fills). The caller counts the vectors per mode (the
+  // resolve adds them to t_fetch_modes once per row: not a thread-local add per vector).
+  void bind(const F& first, const F& second) { mode_ = plan(first, second); }
 
   // The order of FetchModeCounts.
   enum class Mode { consecutive, shifted, spanning, gather };
@@ -122,7 +120,7 @@ class ColumnFetch {
   // Calls body(fetch) with a fetch(row, at_first, at_second) compiled for this vector's mode, so
   // that a body reading several rows branches on the mode once, not once per row.
   template <class Body>
-  void visit(const Body& body) const {
+  REPROJECT_ALWAYS_INLINE void visit(const Body& body) const {
     switch (mode_) {
       case Mode::consecutive: return body(Fetch<Mode::consecutive>{this});
       case Mode::shifted: return body(Fetch<Mode::shifted>{this});

@@ -66,6 +66,22 @@ xsimd::batch<float, Arch> float_bits(const xsimd::batch<std::int32_t, Arch>& v) 
   return vreinterpretq_f32_s32(v);
 }
 
+// Byte `Byte` (0: the lowest address) of each 32-bit lane, zero-extended (an RGBA8 pixel's
+// channel): an and, a logical shift, or one table look-up (indices past the table give zero).
+template <int Byte, class Arch>
+xsimd::batch<std::int32_t, Arch> byte_lanes(const xsimd::batch<std::int32_t, Arch>& w) {
+  static_assert(Byte >= 0 && Byte < 4, "a 32-bit lane has four bytes");
+  if constexpr (Byte == 0) {
+    return vandq_s32(w, vdupq_n_s32(0xff));
+  } else if constexpr (Byte == 3) {
+    return vreinterpretq_s32_u32(vshrq_n_u32(vreinterpretq_u32_s32(w), 24));
+  } else {
+    constexpr std::uint8_t z = 0xff;
+    alignas(16) static const std::uint8_t pick[16] = {Byte, z, z, z, Byte + 4, z, z, z, Byte + 8, z, z, z, Byte + 12, z, z, z};
+    return vreinterpretq_s32_u8(vqtbl1q_u8(vreinterpretq_u8_s32(w), vld1q_u8(pick)));
+  }
+}
+
 // Correctly rounded division: xsimd 8.1's float division on neon64 is a reciprocal estimate
 // refined by two Newton steps (not correctly rounded); vdivq_f32 is IEEE division.
 template <class F>

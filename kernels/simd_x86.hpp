@@ -76,6 +76,32 @@ xsimd::batch<float, Arch> float_bits(const xsimd::batch<std::int32_t, Arch>& v) 
   return xsimd::bitwise_cast<xsimd::batch<float, Arch>>(v);
 }
 
+// Byte `Byte` (0: the lowest address) of each 32-bit lane, zero-extended (an RGBA8 pixel's
+// channel): an and, a logical shift, or one byte shuffle (SSSE3, in every set here), instead of a
+// shift and a mask.
+template <int Byte, class Arch>
+xsimd::batch<std::int32_t, Arch> byte_lanes(const xsimd::batch<std::int32_t, Arch>& w) {
+  using I = xsimd::batch<std::int32_t, Arch>;
+  static_assert(Byte >= 0 && Byte < 4, "a 32-bit lane has four bytes");
+  if constexpr (Byte == 0) {
+    return w & I(0xff);
+  } else {
+    constexpr char z = -128;  // a shuffle index with its top bit set writes zero
+    const __m128i pick = _mm_setr_epi8(Byte, z, z, z, Byte + 4, z, z, z, Byte + 8, z, z, z, Byte + 12, z, z, z);
+#if defined(__AVX512F__)
+    if constexpr (sizeof(I) == 64) {
+      return Byte == 3 ? _mm512_srli_epi32(w, 24) : _mm512_shuffle_epi8(w, _mm512_broadcast_i32x4(pick));
+    }
+#endif
+#if defined(__AVX2__)
+    if constexpr (sizeof(I) == 32) {
+      return Byte == 3 ? _mm256_srli_epi32(w, 24) : _mm256_shuffle_epi8(w, _mm256_broadcastsi128_si256(pick));
+    }
+#endif
+    if constexpr (sizeof(I) == 16) return Byte == 3 ? _mm_srli_epi32(w, 24) : _mm_shuffle_epi8(w, pick);
+  }
+}
+
 // Correctly rounded division (divps on every width).
 template <class F>
 F vdiv(const F& a, const F& b) {
