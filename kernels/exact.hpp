@@ -37,31 +37,57 @@ inline int reach_of(const float* parallax, int column, int guard, int width) {
 // reaches, clamped to [0, Wt], so the spans are already clipped to the row (clamping is monotone)
 // and each column's reach is computed once; a segment's span is empty for a fold-over (a back
 // face). extension(column, begin, end) is the edge column's; segment(j, begin, end) is [j, j+1]'s.
-template <bool Upwards, class Extension, class Segment>
-inline void sweep_in_order(const Frame& f, const float* parallax, const Extension& extension, const Segment& segment) {
+//
+// This form hands the segments to three painters: those of [middle_lo, middle_hi] to `middle`,
+// those before them in sweep order to `before` (upwards j < middle_lo, downwards j > middle_hi),
+// the rest to `after` (0 <= middle_lo <= middle_hi + 1 <= last).
+template <bool Upwards, class Extension, class Before, class Middle, class After>
+inline void sweep_in_order(const Frame& f, const float* parallax, const Extension& extension, const Before& before,
+                           const Middle& middle, const After& after, int middle_lo, int middle_hi) {
   const int last = f.source_width - 1;
   const int width = f.target_width;
   const int guard = f.guard;
   auto reach = [&](int column) { return reach_of<Upwards>(parallax, column, guard, width); };
   if constexpr (Upwards) {
+    // Segments [from, to) from `begin` on; returns where the next one begins.
+    auto run = [&](int from, int to, int begin, const auto& segment) {
+      for (int j = from; j < to; ++j) {
+        const int end = reach(j + 1);
+        segment(j, begin, end);
+        begin = end;
+      }
+      return begin;
+    };
     int begin = reach(0);
     extension(0, 0, begin);
-    for (int j = 0; j < last; ++j) {
-      const int end = reach(j + 1);
-      segment(j, begin, end);
-      begin = end;
-    }
+    begin = run(0, middle_lo, begin, before);
+    begin = run(middle_lo, middle_hi + 1, begin, middle);
+    begin = run(middle_hi + 1, last, begin, after);
     extension(last, begin, width);
   } else {
+    // Segments from, from - 1, ... down to (not including) `to`, from `end` down; returns where
+    // the next one ends.
+    auto run = [&](int from, int to, int end, const auto& segment) {
+      for (int j = from; j > to; --j) {
+        const int begin = reach(j);
+        segment(j, begin, end);
+        end = begin;
+      }
+      return end;
+    };
     int end = reach(last);
     extension(last, end, width);
-    for (int j = last - 1; j >= 0; --j) {
-      const int begin = reach(j);
-      segment(j, begin, end);
-      end = begin;
-    }
+    end = run(last - 1, middle_hi, end, before);
+    end = run(middle_hi, middle_lo - 1, end, middle);
+    end = run(middle_lo - 1, -1, end, after);
     extension(0, 0, end);
   }
+}
+
+// Every segment to one painter.
+template <bool Upwards, class Extension, class Segment>
+inline void sweep_in_order(const Frame& f, const float* parallax, const Extension& extension, const Segment& segment) {
+  sweep_in_order<Upwards>(f, parallax, extension, segment, segment, segment, 0, f.source_width - 2);
 }
 
 // Source x of target pixel t painted by an edge extension whose surface has parallax p.

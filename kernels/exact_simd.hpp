@@ -107,9 +107,9 @@ inline ClipMargins clip_margins(const Frame& f) {
 }
 
 // Columns [lo, hi] of a row whose key may reach the near limit: every other column c has
-// s p[c] + margins.column < key_near (the same float sum the tests use), so no segment between
-// two of them and no extension at one is too near, nor does a ray start behind the surface between
-// two of them (simd_exact's pass 2).
+// s p[c] + margins.column < key_near (up to the rounding of that bound, see exact_may_clip), so no
+// segment between two of them and no extension at one is too near, nor does a ray start behind
+// the surface between two of them (simd_exact's pass 2).
 struct NearColumns {
   int lo;
   int hi;
@@ -136,9 +136,9 @@ void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, f
   // its far end (or past its start when it is empty).
   const int middle_start = Upwards ? (near.lo >= 1 ? reach_of<true>(parallax, near.lo - 1, f.guard, width) : 0)
                                    : (near.hi < last ? reach_of<false>(parallax, near.hi + 1, f.guard, width) : width);
-  auto whole_stores_fit = [&](int column, int begin, int end) {
-    if constexpr (Upwards) return column > near.hi || std::max(begin, end) + L <= middle_start;
-    else return column < near.lo || std::min(begin, end) - L >= middle_start;
+  auto whole_stores_fit = [&](int begin, int end) {
+    if constexpr (Upwards) return std::max(begin, end) + L <= middle_start;
+    else return std::min(begin, end) - L >= middle_start;
   };
   // Code `code` onto targets [begin, end).
   auto paint = [&](float code, int begin, int end) {
@@ -146,19 +146,22 @@ void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, f
     for (int t = begin; t < end; t += L) store_first_lanes<Arch>(value, owner + t, end - t);
   };
   auto paint_extension = [&](int column, int begin, int end) {
-    if (column < near.lo || column > near.hi) {  // plain
-      if (whole_stores_fit(column, begin, end)) return whole.extension(column, begin, end);
+    if (column < near.lo || column > near.hi) {  // plain: after the middle, or before it and short of it
+      const bool after = Upwards == (column == last);
+      if (after || whole_stores_fit(begin, end)) return whole.extension(column, begin, end);
     } else if (f.s * parallax[column] > f.key_near) {
       return;  // the whole extension is too near
     }
     paint(column == 0 ? kLeftExtension : kRightExtension, begin, end);
   };
   const F lanes = lane_offsets<Arch>(), s(f.s), key_near(f.key_near), guard(static_cast<float>(f.guard));
-  auto paint_segment = [&](int j, int begin, int end) {
-    if (j + 1 < near.lo || j > near.hi) {  // plain: neither end is near
-      if (whole_stores_fit(j, begin, end)) return whole.segment(j, begin, end);
-      return paint(static_cast<float>(j), begin, end);
-    }
+  // Plain segments (neither end is near) before and after the middle.
+  auto paint_before = [&](int j, int begin, int end) {
+    if (whole_stores_fit(begin, end)) return whole.segment(j, begin, end);
+    paint(static_cast<float>(j), begin, end);
+  };
+  auto paint_after = [&](int j, int begin, int end) { whole.segment(j, begin, end); };
+  auto paint_middle = [&](int j, int begin, int end) {
     if (begin >= end) return;  // a fold
     const float p0 = parallax[j];
     const float p1 = parallax[j + 1];
@@ -174,43 +177,44 @@ void exact_paint_clipping(const Frame& f, const float* parallax, float* owner, f
       xsimd::select(write, j_v, F::load_unaligned(owner + t)).store_unaligned(owner + t);
     }
   };
-  sweep_in_order<Upwards>(f, parallax, paint_extension, paint_segment);
+  // The segments with a near end: [near.lo - 1, near.hi] within the row's.
+  sweep_in_order<Upwards>(f, parallax, paint_extension, paint_before, paint_middle, paint_after, std::max(near.lo - 1, 0),
+                          std::min(near.hi, last - 1));
 }
 
-// Whether the row clips (sweep_row's may_clip: its nearest key, with the vector max, is beyond
-// key_near), and if so its near columns, found in the same pass.
+// Whether the row clips (sweep_row's may_clip: a column's key is beyond key_near), and if so its
+// near columns: those with s p >= key_near - margins.column (rounded: still more than the margin
+// of NearColumns, whose bound has four times what it needs). Every column beyond key_near is near,
+// so only rows with near columns are searched for one.
 template <class Arch>
 bool exact_may_clip(const Frame& f, const float* parallax, float column_margin, NearColumns* near) {
   REPROJECT_LANE_TYPES(Arch);
   if (f.near_from_frame) return false;  // the frame's own nearest: nothing is clipped
   const int width = f.source_width;
-  auto near_at = [&](int c) { return f.s * parallax[c] + column_margin >= f.key_near; };
-  const F s(f.s), margin_v(column_margin), key_near(f.key_near);
-  F nearest(f.key_far);
+  const float near_key = f.key_near - column_margin;
+  auto near_at = [&](int c) { return f.s * parallax[c] >= near_key; };
+  const F s(f.s), near_key_v(near_key);
   int first = -1, last = -1;  // the first and last vectors with a near column
   int j = 0;
   for (; j + L <= width; j += L) {
-    const F key = s * F::load_unaligned(parallax + j);
-    nearest = vmax(nearest, key);
-    if (xsimd::any(key + margin_v >= key_near)) {
+    if (xsimd::any(s * F::load_unaligned(parallax + j) >= near_key_v)) {
       if (first < 0) first = j;
       last = j;
     }
   }
-  float key = lane_max<Arch>(nearest);
-  for (int c = j; c < width; ++c) key = std::max(key, f.s * parallax[c]);
-  if (!(key > f.key_near)) return false;  // max is exact: only the order of equal keys differs, not the test
-  // A column's key exceeds key_near: it is near, so both searches below stop inside the row.
-  int lo = first >= 0 ? first : j;
-  while (!near_at(lo)) ++lo;
   int hi = width - 1;
   while (hi >= j && !near_at(hi)) --hi;  // the tail
   if (hi < j) {
+    if (last < 0) return false;  // no near column
     hi = last + L - 1;
     while (!near_at(hi)) --hi;
   }
+  int lo = first >= 0 ? first : j;
+  while (!near_at(lo)) ++lo;
   *near = NearColumns{lo, hi};
-  return true;
+  for (int c = lo; c <= hi; ++c)
+    if (f.s * parallax[c] > f.key_near) return true;
+  return false;
 }
 
 template <class Arch, class Fma>

@@ -1,12 +1,13 @@
 // Internal: SIMD twin of kernels/resolve.cpp, the resolve stage every method shares
 // (docs/DESIGN.md §6 "One resolve stage for all").
 //
-// A row's vectors take one of two paths. Nearly all of them, on any scene, are plain hits: every
-// lane's source x lies in the row, no lane is clipped and no lane straddles a wall. Those run a
-// loop compiled once per colour path and with or without the depth output (resolve_hits), with
-// nothing in it that only the rare vectors need. A vector with any other lane (outside, clipped,
-// a hole) goes to resolve_vector, the general case, which handles every mix; for the hit lanes it
-// computes exactly what the hit loop computes, so a vector's bits do not depend on its path.
+// A row's vectors take one of two paths. Nearly all of them, on any scene, are plain: every
+// lane's source x lies in the row and every lane is a hit or clipped (no wall, nothing outside).
+// Those run a loop compiled once per colour path and with or without the depth output
+// (resolve_hits), with nothing in it that only the rare vectors need. A vector with any other lane
+// (outside, a hole) goes to resolve_vector, the general case, which handles every mix; for the
+// plain lanes it computes exactly what the hit loop computes, so a vector's bits do not depend on
+// its path.
 #pragma once
 
 #include "kernels/color_formats_simd.hpp"
@@ -286,10 +287,10 @@ struct WriteHits {
   }
 };
 
-// The row's vectors (target pixels [0, whole)), each either a plain hit, done here, or handed
-// to resolve_vector. For the hit lanes resolve_vector computes the same: outside and clipped
-// are false, so xs = x, the clamp leaves x (but turns -0 into +0: kept as vmax), no lane is
-// masked or black, and the status is hit (0).
+// The row's vectors (target pixels [0, whole)), each either plain (hits and clipped lanes in the
+// row), done here, or handed to resolve_vector. For plain lanes resolve_vector computes the same:
+// nothing is outside, so xs = x, the clamp leaves x (but turns -0 into +0: kept as vmax), a
+// clipped lane is never a hole, no lane is masked or black, and the status is hit (0) or clipped (3).
 template <ColourPath Path, bool WithDepth, class Arch, class Fma>
 void resolve_hits(const ResolveRow<Arch>& whole_row, int whole, FetchModeCounts& counts) {
   REPROJECT_LANE_TYPES(Arch);
@@ -300,12 +301,12 @@ void resolve_hits(const ResolveRow<Arch>& whole_row, int whole, FetchModeCounts&
   FetchModeCounts hits{};
   for (int t = 0; t < whole; t += L) {
     const F x = F::load_unaligned(row.source_x + t);
-    const F flags = F::load_unaligned(row.clipped + t);
-    // All in [0, last] and none clipped (a NaN x fails too, and takes the general path).
-    if (!xsimd::all((x >= zero) & (x <= row.last) & (flags == zero))) {
+    // All in [0, last] (a NaN x fails too, and takes the general path).
+    if (!xsimd::all((x >= zero) & (x <= row.last))) {
       resolve_vector<Arch, Fma>(whole_row, t, counts);
       continue;
     }
+    const B clipped = load_flags<Arch>(row.clipped + t);
     const F xc = vmax(x, zero);
     const F j0 = vfloor(xc);
     const F j1 = vmin(j0 + one, row.last);
@@ -313,14 +314,16 @@ void resolve_hits(const ResolveRow<Arch>& whole_row, int whole, FetchModeCounts&
     const ColumnFetch<Arch> columns(j0, j1, row.f.source_width);
     F p0, p1;
     columns.fetch(row.parallax, p0, p1);
-    if (xsimd::any((p1 - p0) > row.tau)) {  // a wall: a hole's fill
+    if (xsimd::any(((p1 - p0) > row.tau) & ~clipped)) {  // a wall: a hole's fill
       resolve_vector<Arch, Fma>(whole_row, t, counts);
       continue;
     }
     ++hits.vectors[static_cast<int>(columns.mode())];
     prefetch_next_row<Path>(row, t);
     columns.visit(WriteHits<Path, WithDepth, Arch, Fma>{row, t, j0, j1, frac});
-    if (row.status_out) store_bytes<Arch>(zero, row.status_out + t);
+    if (row.status_out) {
+      store_bytes<Arch>(xsimd::any(clipped) ? xsimd::select(clipped, F(3.0f), zero) : zero, row.status_out + t);
+    }
     if (row.x_out) x.store_unaligned(row.x_out + t);
   }
   for (int m = 0; m < 4; ++m) counts.vectors[m] += hits.vectors[m];
