@@ -12,15 +12,21 @@
 //                                                    fixed limit) instead of the frame's own
 //   march16/<arch>/512x512/threads:1/grey           one colour plane: the frame fits in cache
 //   roofline/<W>x<H>/threads:<n>[/grey]             the same bytes streamed by a plain copy
-//   <method>/<arch>/1920x1080/threads:<n>/<colour>+<depth>  an engine-native frame (kPixelFormats,
+//   <method>/<arch>/<W>x<H>/threads:<n>/<colour>+<depth>  an engine-native frame (kPixelFormats,
 //                                                    e.g. rgba8+unorm24_s8; rgba32f+float is the
 //                                                    float baseline), colour output only, on the
-//                                                    best arch and AVX2
-//   roofline/1920x1080/threads:<n>/<colour>+<depth>  the same bytes touched by a plain copy
+//                                                    best arch and AVX2, at 1920x1080 and 3840x2160
+//   roofline/<W>x<H>/threads:<n>/<colour>+<depth>    the same bytes touched by a plain copy
+//   <method>/<arch>/1920x1080/threads:<n>/<colour>+<depth>/band:32  the same frame's rows 524..555
+//                                                    only (single, march16, exact on
+//                                                    rgba8+unorm24_s8 and rgba32f+float): after the
+//                                                    first call the band stays in cache, so this is
+//                                                    the kernel's computation without the memory wall
+//   roofline/1920x1080/threads:<n>/<colour>+<depth>/band:32  the plain copy over the same band
 //
-// Counters: items = target pixels (both eyes for pair_), bytes = what one eye must touch: read
-// depth + colour, write colour + depth + status (no source_x); for the <colour>+<depth> cases
-// read depth + colour, write colour. Benchmarks never assert time.
+// Counters: items = target pixels (both eyes for pair_; the band's own for band:), bytes = what one
+// eye must touch: read depth + colour, write colour + depth + status (no source_x); for the
+// <colour>+<depth> cases read depth + colour, write colour. Benchmarks never assert time.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -56,6 +62,7 @@ struct Size {
 };
 constexpr Size kSizes[] = {{1280, 720}, {1920, 1080}, {3840, 2160}};
 constexpr Size kFullHd = {1920, 1080};
+constexpr Size kFormatSizes[] = {kFullHd, {3840, 2160}};  // the engine-native formats' sizes
 // Small enough that depth, one colour plane and all outputs (17 B/px, 4.5 MB) stay in L2/L3:
 // the kernels' arithmetic speed without the memory wall.
 constexpr Size kInCache = {512, 512};
@@ -322,6 +329,52 @@ const FormatFrame& format_frame(Size size, const PixelFormat& format) {
   return *frame;
 }
 
+// --- A band of rows: the same buffers, fewer rows ------------------------------------------------
+
+// The band cases' height, and the first row of a band of `rows` rows in the middle of a frame
+// `height` rows high (1080p: rows 524..555).
+constexpr int kBandRows = 32;
+int band_first_row(int height, int rows) { return (height - rows) / 2; }
+
+// Rows [first, first + count) of a view: data moved to row `first`, the height cut to `count`,
+// width and stride unchanged. A view that is not set (no data) stays unset.
+template <class T>
+PlaneView<T> band_of(PlaneView<T> plane, int first, int count) {
+  if (plane.data) {
+    plane.data = plane.row(first);
+    plane.height = count;
+  }
+  return plane;
+}
+template <class Byte>
+DepthBufferT<Byte> band_of(DepthBufferT<Byte> buffer, int first, int count) {
+  if (buffer.data) {
+    buffer.data = buffer.row(first);
+    buffer.height = count;
+  }
+  return buffer;
+}
+template <class T>
+ColorViewT<T> band_of(ColorViewT<T> color, int first, int count) {
+  for (PlaneView<T>& plane : color.plane) plane = band_of(plane, first, count);
+  color.pixels = band_of(color.pixels, first, count);
+  return color;
+}
+SourceView band_of(SourceView view, int first, int count) {
+  view.color = band_of(view.color, first, count);
+  view.depth = band_of(view.depth, first, count);
+  view.depth_buffer = band_of(view.depth_buffer, first, count);
+  return view;
+}
+TargetView band_of(TargetView view, int first, int count) {
+  view.color = band_of(view.color, first, count);
+  view.depth = band_of(view.depth, first, count);
+  view.status = band_of(view.status, first, count);
+  view.source_x = band_of(view.source_x, first, count);
+  view.depth_buffer = band_of(view.depth_buffer, first, count);
+  return view;
+}
+
 // --- The reprojection benchmarks ---------------------------------------------------------------
 
 struct Case {
@@ -335,6 +388,7 @@ struct Case {
   bool pair = false;
   bool two_calls = false;  // a pair as two single-eye calls (the baseline reproject_pair must beat)
   const PixelFormat* format = nullptr;  // an engine-native frame, colour output only (not with pair)
+  int band_rows = 0;  // > 0: only this many rows in the middle of the frame (band_of); 0: the whole frame
   bool warmed = false;
 };
 
@@ -365,7 +419,7 @@ void report_rates(benchmark::State& state, double wall_seconds, std::int64_t pix
 }
 
 void bm_reproject(benchmark::State& state, Case* c) {
-  const SourceView source_view = c->format ? format_frame(c->size, *c->format).source : source_frame(c->size, c->layout).view();
+  SourceView source_view = c->format ? format_frame(c->size, *c->format).source : source_frame(c->size, c->layout).view();
   const ParallaxModel model =
       c->separation_px ? model_for_separation(c->size.width, *c->separation_px) : default_model(c->size.width);
   Options options;
@@ -373,8 +427,15 @@ void bm_reproject(benchmark::State& state, Case* c) {
   options.arch = c->arch;
   options.threads = c->threads;
   if (c->fixed_near) options.max_negative_parallax = 0.5f * std::fabs(model.a);
-  const TargetView eye = c->format ? format_frame(c->size, *c->format).target : output_frame(c->size, c->layout, 0).view();
-  const TargetView other_eye = c->pair ? output_frame(c->size, c->layout, 1).view() : TargetView{};
+  TargetView eye = c->format ? format_frame(c->size, *c->format).target : output_frame(c->size, c->layout, 0).view();
+  TargetView other_eye = c->pair ? output_frame(c->size, c->layout, 1).view() : TargetView{};
+  const int rows = c->band_rows > 0 ? c->band_rows : c->size.height;
+  if (c->band_rows > 0) {
+    const int first = band_first_row(c->size.height, c->band_rows);
+    source_view = band_of(source_view, first, rows);
+    eye = band_of(eye, first, rows);
+    other_eye = band_of(other_eye, first, rows);
+  }
   const DepthDecoder& decoder = the_decoder();
 
   const ParallaxModel mirrored{-model.a, -model.b};  // the pair's left eye
@@ -401,7 +462,7 @@ void bm_reproject(benchmark::State& state, Case* c) {
     Status status = call();
     benchmark::DoNotOptimize(status);
   }
-  const std::int64_t pixels = static_cast<std::int64_t>(c->size.width) * c->size.height * (c->pair ? 2 : 1);
+  const std::int64_t pixels = static_cast<std::int64_t>(c->size.width) * rows * (c->pair ? 2 : 1);
   report_rates(state, clock.seconds(), pixels, c->format ? bytes_per_pixel(*c->format) : bytes_per_pixel(c->layout));
 }
 
@@ -542,8 +603,11 @@ std::uint64_t sum_words(const std::uint8_t* bytes, std::size_t count) {
   return sum;
 }
 
-void bm_roofline_format(benchmark::State& state, Size size, int threads, const PixelFormat* format) {
+// `band_rows` > 0: only that many rows in the middle of the frame, as the band cases (band_of).
+void bm_roofline_format(benchmark::State& state, Size size, int threads, const PixelFormat* format, int band_rows) {
   const FormatFrame& frame = format_frame(size, *format);
+  const int height = band_rows > 0 ? band_rows : size.height;
+  const int first = band_rows > 0 ? band_first_row(size.height, band_rows) : 0;
   const ColorView& in = frame.source.color;
   const MutableColorView& out = frame.target.color;
   const bool float_colour = format->color == ColorFormat::float32;
@@ -553,7 +617,7 @@ void bm_roofline_format(benchmark::State& state, Size size, int threads, const P
 
   const std::function<void(int, int)> rows = [&](int begin, int end) {
     std::uint64_t sum = 0;
-    for (int y = begin; y < end; ++y) {
+    for (int y = first + begin; y < first + end; ++y) {
       if (float_colour) {
         std::memcpy(out.plane[0].row(y), in.plane[0].row(y), colour_row_bytes);
       } else {
@@ -566,13 +630,13 @@ void bm_roofline_format(benchmark::State& state, Size size, int threads, const P
     benchmark::DoNotOptimize(sum);
   };
   RowTeam team(threads);
-  team.run(size.height, rows);  // untimed: wakes the helper once
+  team.run(height, rows);  // untimed: wakes the helper once
   const WallClock clock;
   for (auto _ : state) {
-    team.run(size.height, rows);
+    team.run(height, rows);
     benchmark::ClobberMemory();
   }
-  const std::int64_t pixels = static_cast<std::int64_t>(size.width) * size.height;
+  const std::int64_t pixels = static_cast<std::int64_t>(size.width) * height;
   report_rates(state, clock.seconds(), pixels, bytes_per_pixel(*format));
 }
 
@@ -634,23 +698,50 @@ void register_all() {
   Case fixed_near;
   fixed_near.fixed_near = true;
   register_methods(fixed_near, "/near:fixed");
-  // Engine-native formats at 1080p, colour output only: every method on the best arch and on
-  // AVX2 (the other archs add run time, not information), after each format's roofline.
+  // Engine-native formats at 1080p and 4K, colour output only: every method on the best arch and
+  // on AVX2 (the other archs add run time, not information), after each format's roofline.
   std::vector<Arch> format_archs;
   if (arch_supported(Arch::avx2)) format_archs.push_back(Arch::avx2);
   if (archs.back() != Arch::avx2) format_archs.push_back(archs.back());
+  auto register_format_roofline = [](Size size, int threads, const PixelFormat& format, int band_rows,
+                                     const std::string& suffix) {
+    const std::string roof = "roofline/" + size_name(size) + "/threads:" + std::to_string(threads) + suffix;
+    finish(benchmark::RegisterBenchmark(roof.c_str(), bm_roofline_format, size, threads, &format, band_rows));
+  };
+  for (Size size : kFormatSizes) {
+    for (int threads : kThreadCounts) {
+      for (const PixelFormat& format : kPixelFormats) {
+        const std::string suffix = std::string("/") + format.name;
+        register_format_roofline(size, threads, format, 0, suffix);
+        for (Method method : kMethods) {
+          for (Arch arch : format_archs) {
+            Case c;
+            c.method = method;
+            c.arch = arch;
+            c.size = size;
+            c.threads = threads;
+            c.format = &format;
+            register_case(c, suffix);
+          }
+        }
+      }
+    }
+  }
+  // Computation alone: the 1080p packed and float frames' middle 32 rows, which stay in cache
+  // from one call to the next, so the time is the kernel's work without the memory wall.
   for (int threads : kThreadCounts) {
     for (const PixelFormat& format : kPixelFormats) {
-      const std::string suffix = std::string("/") + format.name;
-      const std::string roof = "roofline/" + size_name(kFullHd) + "/threads:" + std::to_string(threads) + suffix;
-      finish(benchmark::RegisterBenchmark(roof.c_str(), bm_roofline_format, kFullHd, threads, &format));
-      for (Method method : kMethods) {
+      if (std::strcmp(format.name, "rgba8+unorm24_s8") != 0 && std::strcmp(format.name, "rgba32f+float") != 0) continue;
+      const std::string suffix = std::string("/") + format.name + "/band:" + std::to_string(kBandRows);
+      register_format_roofline(kFullHd, threads, format, kBandRows, suffix);
+      for (Method method : {Method::single, Method::march16, Method::exact}) {
         for (Arch arch : format_archs) {
           Case c;
           c.method = method;
           c.arch = arch;
           c.threads = threads;
           c.format = &format;
+          c.band_rows = kBandRows;
           register_case(c, suffix);
         }
       }
