@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """The instruction mix of the SIMD inner loops, read from the kernels' object code: for each named
-kernel, every loop (a backward branch and the code it jumps back over) with its instruction count
-and how many of those are vector instructions, per pixel of the loop's vector (4 lanes on NEON,
-8 on AVX2). Used where no hardware runs the code (ARM here): docs/PERFORMANCE.md "ARM".
+kernel, its per-vector loop (the outermost loop of the function: one vector of pixels per turn,
+every branch of its body counted once) and, where it has loops inside that one, its innermost loop,
+with the instruction count and how many of those are vector instructions, per pixel of the loop's
+vector (4 lanes on NEON, 8 on AVX2). Static counts: a loop body with several paths (the resolve's
+column-fetch modes) counts all of them, so they compare families, not times. Used where no hardware
+runs the code (ARM here): docs/PERFORMANCE.md "ARM".
 
   bench/instruction_mix.py --neon build-arm/CMakeFiles/reproject_simd_neon.dir/kernels/arch_neon.cpp.o \\
       --avx2 build/CMakeFiles/reproject_simd_avx2.dir/kernels/arch_avx2.cpp.o
@@ -11,7 +14,15 @@ import argparse
 import re
 import subprocess
 
-KERNELS = ("simd_single", "simd_march16")  # the searches of `single` and `march16`
+# (label, a piece of the function's name): the stages an rgba8 + D24S8 frame runs through.
+KERNELS = (
+    ("decode (every depth format)", "::simd_decode<"),
+    ("single search", "::simd_single<"),
+    ("march16 search", "::simd_march16_row<"),
+    ("march16 search", "::simd_march16<"),
+    ("resolve, rgba8 colour only", "::resolve_hits<(reproject::detail::(anonymous namespace)::ColourPath)3, false,"),
+    ("resolve, float planes + depth", "::resolve_hits<(reproject::detail::(anonymous namespace)::ColourPath)0, true,"),
+)
 
 
 def functions(objdump, path):
@@ -52,13 +63,19 @@ def loops(body):
 def mix(objdump, path, neon, lanes):
     rows = []
     for name, body in functions(objdump, path):
-        kernel = next((k for k in KERNELS if f"::{k}<" in name or f"::{k}_row<" in name), None)
-        if kernel is None or ("Fused" not in name):
+        label = next((label for label, piece in KERNELS if piece in name), None)
+        if label is None or "Fused" not in name:
             continue
-        for start, end in loops(body):
+        found = loops(body)
+        if not found:
+            continue
+        picked = [("per vector", found[-1])] + ([("innermost", found[0])] if len(found) > 1 else [])
+        for kind, (start, end) in picked:
             inside = [(m, o) for a, m, o in body if start <= a <= end]
             vector = sum(is_vector(m, o, neon) for m, o in inside)
-            rows.append((kernel, name, start, len(inside), vector, lanes))
+            variant = " (s > 0)" if ", true>" in name and "march16" in label else (
+                " (s < 0)" if ", false>" in name and "march16" in label else "")
+            rows.append((label + variant, kind, start, len(inside), vector, lanes))
     return rows
 
 
@@ -69,11 +86,19 @@ if __name__ == "__main__":
     parser.add_argument("--neon-objdump", default="aarch64-linux-gnu-objdump")
     parser.add_argument("--objdump", default="objdump")
     options = parser.parse_args()
-    print("| kernel | family | loop at | instructions | vector | per pixel (vector) |")
+    rows = {}
+    for family, objdump, path, neon, lanes in (("NEON", options.neon_objdump, options.neon, True, 4),
+                                               ("AVX2", options.objdump, options.avx2, False, 8)):
+        for label, kind, start, count, vector, lanes in mix(objdump, path, neon, lanes):
+            rows.setdefault((label, kind), {})[family] = (count, vector, lanes)
+    print("| kernel | loop | NEON (4 lanes): instructions, vector | per pixel | AVX2 (8 lanes): instructions, vector | per pixel |")
     print("|:--|:--|--:|--:|--:|--:|")
-    for family, objdump, path, neon, lanes in (("NEON, 4 lanes", options.neon_objdump, options.neon, True, 4),
-                                               ("AVX2, 8 lanes", options.objdump, options.avx2, False, 8)):
-        for kernel, name, start, count, vector, lanes in mix(objdump, path, neon, lanes):
-            variant = " (s > 0)" if ", true>" in name else (" (s < 0)" if ", false>" in name else "")
-            print(f"| {kernel}{variant} | {family} | 0x{start:x} | {count} | {vector} | "
-                  f"{count / lanes:.2f} ({vector / lanes:.2f}) |")
+    for (label, kind), families in rows.items():
+        cells = []
+        for family in ("NEON", "AVX2"):
+            if family in families:
+                count, vector, lanes = families[family]
+                cells += ["%d, %d" % (count, vector), "%.2f (%.2f vector)" % (count / lanes, vector / lanes)]
+            else:
+                cells += ["–", "–"]
+        print("| %s | %s | %s |" % (label, kind, " | ".join(cells)))
