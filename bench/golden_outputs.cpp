@@ -16,6 +16,8 @@
 //   build-a/bench/reproject_golden > a.txt && build-b/bench/reproject_golden > b.txt && diff a.txt b.txt
 // Flags:
 //   --arch NAME      only this instruction set (scalar, sse, avx2, avx512, neon)
+//   --only REGEX     only the configurations whose line name matches REGEX (std::regex_search):
+//                    e.g. to count one call's instructions per function (bench/instruction_count.py)
 //   --canonical-nan  hash every NaN of a float or half output as one bit pattern (AArch64 and x86
 //                    make NaNs of different signs): to compare builds on different processors
 //   --versus-scalar  print no hashes; check, configuration by configuration, that each fused SIMD
@@ -32,6 +34,7 @@
 #include <cstring>
 #include <iterator>
 #include <optional>
+#include <regex>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -365,6 +368,7 @@ struct Report {
 int main(int argc, char** argv) {
   Report report;
   std::optional<Arch> only;
+  std::optional<std::regex> only_names;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     Arch a;
@@ -374,8 +378,11 @@ int main(int argc, char** argv) {
       report.versus_scalar = true;
     } else if (arg == "--arch" && i + 1 < argc && parse_arch(argv[++i], &a)) {
       only = a;
+    } else if (arg == "--only" && i + 1 < argc) {
+      only_names = std::regex(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: %s [--arch scalar|sse|avx2|avx512|neon] [--canonical-nan] [--versus-scalar]\n",
+      std::fprintf(stderr,
+                   "usage: %s [--arch scalar|sse|avx2|avx512|neon] [--only REGEX] [--canonical-nan] [--versus-scalar]\n",
                    argv[0]);
       return 2;
     }
@@ -422,8 +429,10 @@ int main(int argc, char** argv) {
             for (const OptionSet& set : option_sets) {
               const Source& src = sources[set.encoding == DepthEncoding::standard ? 0 : 1];
               for (Arch arch : arches) {
+                const std::string name = frame + to_string(method) + "/" + to_string(arch) + "/" + set.name;
+                if (only_names && !std::regex_search(name, *only_names)) continue;
                 const Status status = run(scene, src, cc, df, set, method, arch, buffers);
-                report.add(frame + to_string(method) + "/" + to_string(arch) + "/" + set.name, arch, status, buffers);
+                report.add(name, arch, status, buffers);
               }
             }
           }

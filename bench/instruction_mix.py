@@ -60,22 +60,36 @@ def loops(body):
     return sorted(set(found), key=lambda r: r[1] - r[0])
 
 
+def contains(outer, inner):
+    return outer != inner and outer[0] <= inner[0] and inner[1] <= outer[1]
+
+
 def mix(objdump, path, neon, lanes):
+    """(label, loop kind, instructions, vector instructions) of each named kernel's loops: its
+    per-vector loop and innermost loop when the function has one outer loop, else the range over
+    its outer loops (one per variant: a depth format and decode shape, say)."""
     rows = []
     for name, body in functions(objdump, path):
         label = next((label for label, piece in KERNELS if piece in name), None)
         if label is None or "Fused" not in name:
             continue
         found = loops(body)
-        if not found:
-            continue
-        picked = [("per vector", found[-1])] + ([("innermost", found[0])] if len(found) > 1 else [])
-        for kind, (start, end) in picked:
-            inside = [(m, o) for a, m, o in body if start <= a <= end]
-            vector = sum(is_vector(m, o, neon) for m, o in inside)
-            variant = " (s > 0)" if ", true>" in name and "march16" in label else (
-                " (s < 0)" if ", false>" in name and "march16" in label else "")
-            rows.append((label + variant, kind, start, len(inside), vector, lanes))
+        if "march16" in label:
+            label += " (s > 0)" if ", true>" in name else " (s < 0)" if ", false>" in name else ""
+
+        def size(loop):
+            inside = [(m, o) for a, m, o in body if loop[0] <= a <= loop[1]]
+            return len(inside), sum(is_vector(m, o, neon) for m, o in inside)
+
+        outer = [l for l in found if not any(contains(o, l) for o in found)]
+        if len(outer) == 1:
+            rows.append((label, "per vector") + size(outer[0]))
+            leaves = [l for l in found if not any(contains(l, i) for i in found)]
+            if leaves and leaves[0] != outer[0]:
+                rows.append((label, "innermost") + size(leaves[0]))
+        elif outer:
+            sizes = sorted(size(l) for l in outer)
+            rows.append((label, "%d loops, one per variant: fewest, most" % len(outer), sizes[0], sizes[-1]))
     return rows
 
 
@@ -89,16 +103,21 @@ if __name__ == "__main__":
     rows = {}
     for family, objdump, path, neon, lanes in (("NEON", options.neon_objdump, options.neon, True, 4),
                                                ("AVX2", options.objdump, options.avx2, False, 8)):
-        for label, kind, start, count, vector, lanes in mix(objdump, path, neon, lanes):
-            rows.setdefault((label, kind), {})[family] = (count, vector, lanes)
-    print("| kernel | loop | NEON (4 lanes): instructions, vector | per pixel | AVX2 (8 lanes): instructions, vector | per pixel |")
+        for label, kind, *counts in mix(objdump, path, neon, lanes):
+            rows.setdefault((label, kind), {})[family] = (counts, lanes)
+
+    def cell(counts, lanes):
+        """instructions (vector) per loop turn and per pixel; a (fewest, most) pair for variants."""
+        if isinstance(counts[0], tuple):
+            return "%d–%d (%d–%d)" % (counts[0][0], counts[1][0], counts[0][1], counts[1][1]), \
+                   "%.2f–%.2f (%.2f–%.2f)" % (counts[0][0] / lanes, counts[1][0] / lanes, counts[0][1] / lanes,
+                                             counts[1][1] / lanes)
+        return "%d (%d)" % tuple(counts), "%.2f (%.2f)" % (counts[0] / lanes, counts[1] / lanes)
+
+    print("| kernel | loop | NEON: instructions (vector) | per pixel, 4 lanes | AVX2: instructions (vector) | per pixel, 8 lanes |")
     print("|:--|:--|--:|--:|--:|--:|")
     for (label, kind), families in rows.items():
         cells = []
         for family in ("NEON", "AVX2"):
-            if family in families:
-                count, vector, lanes = families[family]
-                cells += ["%d, %d" % (count, vector), "%.2f (%.2f vector)" % (count / lanes, vector / lanes)]
-            else:
-                cells += ["–", "–"]
+            cells += list(cell(*families[family])) if family in families else ["–", "–"]
         print("| %s | %s | %s |" % (label, kind, " | ".join(cells)))

@@ -40,6 +40,7 @@ struct ResolveRow {
       : f(frame),
         path(colour_path_of(frame)),
         planes(path == ColourPath::planes ? frame.source.color.channels : 1),
+        source_width(frame.source_width),
         parallax(scratch.parallax),
         source_x(scratch.source_x.data()),
         clipped(scratch.clipped.data()),
@@ -62,9 +63,9 @@ struct ResolveRow {
     // The next row's depth and colour, read while this row computes (the last row: itself).
     const int next = y + 1 < frame.height ? y + 1 : y;
     next_depth = frame.depth.row(next) + static_cast<std::ptrdiff_t>(frame.guard) * depth_bytes;
+    next_source = float_planes ? reinterpret_cast<const std::uint8_t*>(frame.source.color.plane[0].row(next))
+                               : frame.source.color.pixels.row(next);
     for (int c = 0; c < planes; ++c) {
-      next_source[c] = (float_planes ? reinterpret_cast<const std::uint8_t*>(frame.source.color.plane[c].row(next))
-                                     : frame.source.color.pixels.row(next));
       source[c] = float_planes ? reinterpret_cast<const std::uint8_t*>(frame.source.color.plane[c].row(y))
                                : frame.source.color.pixels.row(y);
       target[c] = float_planes ? reinterpret_cast<std::uint8_t*>(frame.target.color.plane[c].row(y))
@@ -75,8 +76,9 @@ struct ResolveRow {
   const Frame& f;
   ColourPath path;
   int planes;
+  int source_width;
   const std::uint8_t* source[4] = {};
-  const std::uint8_t* next_source[4] = {};
+  const std::uint8_t* next_source = nullptr;  // the next row's first plane
   const std::uint8_t* next_depth = nullptr;
   std::uint8_t* target[4] = {};
   const float* parallax;
@@ -109,10 +111,9 @@ template <ColourPath Path, class Arch>
 REPROJECT_ALWAYS_INLINE inline void prefetch_next_row(const ResolveRow<Arch>& row, int t) {
   constexpr int L = Lanes<Arch>::size;
   constexpr int kBytes = L * pixel_bytes_of(Path);
-  if constexpr (Path == ColourPath::planes) return;
-  __builtin_prefetch(row.next_depth + static_cast<std::ptrdiff_t>(t) * row.depth_bytes);
-  for (int c = 0; c < row.planes; ++c) {
-    const std::uint8_t* next = row.next_source[c] + static_cast<std::ptrdiff_t>(t) * pixel_bytes_of(Path);
+  if constexpr (Path != ColourPath::planes) {  // one plane of pixels
+    __builtin_prefetch(row.next_depth + static_cast<std::ptrdiff_t>(t) * row.depth_bytes);
+    const std::uint8_t* next = row.next_source + static_cast<std::ptrdiff_t>(t) * pixel_bytes_of(Path);
     for (int line = 0; line < kBytes; line += 64) __builtin_prefetch(next + line);
   }
 }
@@ -217,7 +218,7 @@ __attribute__((noinline)) void resolve_vector(const ResolveRow<Arch>& row, int t
   F j1 = vmin(j0 + one, row.last);
   F frac = xc - j0;
   // Every column read below lies in [j0, j1] (a fill picks one of the two).
-  ColumnFetch<Arch> columns(j0, j1, row.f.source_width);
+  ColumnFetch<Arch> columns(j0, j1, row.source_width);
   ++counts.vectors[static_cast<int>(columns.mode())];
   F p0, p1;
   columns.fetch(row.parallax, p0, p1);
@@ -313,7 +314,7 @@ __attribute__((noinline)) void resolve_hits(const ResolveRow<Arch>& whole_row, i
     const F j0 = vfloor(xc);
     const F j1 = vmin(j0 + one, row.last);
     const F frac = xc - j0;
-    const ColumnFetch<Arch> columns(j0, j1, row.f.source_width);
+    const ColumnFetch<Arch> columns(j0, j1, row.source_width);
     F p0, p1;
     columns.fetch(row.parallax, p0, p1);
     if (xsimd::any(((p1 - p0) > row.tau) & ~clipped)) {  // a wall: a hole's fill

@@ -198,8 +198,9 @@ class ColumnFetch {
   int row_length_;
   int base_ = 0;
   // Each column set's lanes (the arch layer's LaneIndex): absolute for gathers, from `base` for
-  // the permutes.
-  LaneIndex<Arch> first_{}, second_{};
+  // the permutes. Set by plan() for the modes that read them; not zeroed first (a vector's worth
+  // of stores per fetch plan, in the resolve's hottest loop).
+  LaneIndex<Arch> first_, second_;
 };
 
 }  // namespace
