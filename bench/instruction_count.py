@@ -10,10 +10,13 @@ vector register operand. The calls are reproject_golden's, picked with --only (b
 
   bench/instruction_count.py --qemu qemu-aarch64 --binary build-arm/bench/reproject_golden --arch neon \\
       --only 'room/333x40/rgba8\\+unorm24_s8/single/neon/fill:background,edge:clamp,dir:right-to-left,out:colour/' \\
-      --pixels 13320
+      --width 333 --height 40 --lanes 4
   bench/instruction_count.py --qemu 'qemu-x86_64 -cpu max' --binary build/bench/reproject_golden --arch avx2 ...
 
-QEMU 7.2 emulates AVX2, FMA and F16C (not AVX-512). --pixels is the calls' target pixels in all.
+QEMU 7.2 emulates AVX2, FMA and F16C (not AVX-512). Counts are per pixel of the rows' vector
+bodies (--width and --height of the frame, --lanes of the set: NEON 4, AVX2 8); the scalar tails
+(the references, namespace host:: on x86) are listed apart. A run takes minutes: QEMU logs every
+block the whole program executes, ray casting of the frame included.
 """
 import argparse
 import collections
@@ -76,7 +79,9 @@ def main():
     parser.add_argument("--binary", required=True, help="reproject_golden of that processor")
     parser.add_argument("--arch", required=True)
     parser.add_argument("--only", required=True, help="reproject_golden --only REGEX")
-    parser.add_argument("--pixels", type=int, required=True, help="target pixels of the calls, in all")
+    parser.add_argument("--width", type=int, required=True, help="the calls' frame width (no guard band)")
+    parser.add_argument("--height", type=int, required=True)
+    parser.add_argument("--lanes", type=int, required=True, help="float lanes of the instruction set (NEON 4, AVX2 8)")
     options = parser.parse_args()
     aarch64 = "aarch64" in options.qemu
     with tempfile.TemporaryDirectory() as work:
@@ -88,6 +93,7 @@ def main():
         if run.returncode != 0 or not calls:
             raise SystemExit("reproject_golden ran no call (%d): %s" % (run.returncode, run.stderr.strip()))
         per_symbol = count(log, aarch64)
+    pixels = len(calls) * options.height * (options.width // options.lanes * options.lanes)
     names = demangle(list(per_symbol))
     stages = collections.defaultdict(lambda: [0, 0])
     functions = collections.defaultdict(lambda: [0, 0])
@@ -96,20 +102,24 @@ def main():
         stage = next((s for s, pieces in STAGES if any(p in name for p in pieces)), None)
         if stage is None:
             continue
-        short = re.sub(r"\(.*", "", re.sub(r"reproject::detail::|\(anonymous namespace\)::|xsimd::|, reproject::detail::Fused", "",
-                                          name))
+        short = re.sub(r"reproject::detail::|\(anonymous namespace\)::|xsimd::|, reproject::detail::Fused", "", name)
+        short = re.sub(r"\(ColourPath\)(\d)", r"path \1", short)
+        short = re.sub(r"\(.*", "", short)
+        if re.search(r"\bhost::|search_row_|decode_parallax_columns|nearest_key_in_columns|resolve_pixels", short):
+            stage = "scalar tails"
         for total in (stages[stage], functions[(stage, short)]):
             total[0] += instructions
             total[1] += vectors
     print("%d call(s): %s" % (len(calls), "; ".join(c.rsplit(" ", 1)[0] for c in calls)))
     print("| stage | function | instructions per pixel | of which vector |")
     print("|:--|:--|--:|--:|")
-    for stage, _ in STAGES:
+    for stage in [s for s, _ in STAGES] + ["scalar tails"]:
         for (s, short), (instructions, vectors) in sorted(functions.items()):
             if s == stage:
-                print("| %s | `%s` | %.2f | %.2f |" % (stage, short, instructions / options.pixels, vectors / options.pixels))
+                print("| %s | `%s` | %.2f | %.2f |" % (stage, short, instructions / pixels, vectors / pixels))
         instructions, vectors = stages[stage]
-        print("| **%s** | all | **%.2f** | **%.2f** |" % (stage, instructions / options.pixels, vectors / options.pixels))
+        if stage != "scalar tails":
+            print("| **%s** | all | **%.2f** | **%.2f** |" % (stage, instructions / pixels, vectors / pixels))
 
 
 if __name__ == "__main__":

@@ -939,11 +939,11 @@ def write_page(data, json_path, doc_path):
     w("")
     w("ARM timings are **not yet measured**: no ARM hardware is at hand, and timings under `qemu-aarch64`")
     w("mean nothing (CI runs the aarch64 build's tests and a smoke run of this benchmark there, but")
-    w("quotes no figure). What can be read without the hardware is the object code: the NEON table's")
-    w("inner loops against AVX2's, instructions per loop iteration and per pixel of its vector (4 lanes")
-    w("on NEON, 8 on AVX2), of which vector instructions in brackets. `single`'s loop is its whole")
-    w("search; in `march16` the shortest loops are one sample of the march (per vector) and the longer")
-    w("ones the per-vector loop around the samples (both directions of the march are compiled).")
+    w("quotes no figure). What can be read without the hardware is the code itself, NEON's against")
+    w("AVX2's: how many instructions each stage executes per pixel on the same call (counted under")
+    w("QEMU, which counts correctly however slowly it runs), and how long the inner loops are in the")
+    w("object code, per pixel of a vector (4 lanes on NEON, 8 on AVX2). The file below says how each")
+    w("table was made.")
     w("")
     mix = pathlib.Path(__file__).resolve().parent / "arm_instruction_mix.md"
     if mix.exists():

@@ -72,10 +72,12 @@ struct HalfRgbaPixel {
 // The L pixels of one vector: interpolated between columns j0 and j1 at frac; lanes with
 // `keep` set are left to the caller, lanes with `black` set are written as zeros.
 template <class Arch, class Fma, class Pixel>
-void resolve_rgba_pixels(const std::uint8_t* source, std::uint8_t* target, const xsimd::batch<float, Arch>& j0,
-                         const xsimd::batch<float, Arch>& j1, const xsimd::batch<float, Arch>& frac,
-                         const xsimd::batch_bool<float, Arch>& keep, const xsimd::batch_bool<float, Arch>& black,
-                         bool any_special) {
+REPROJECT_ALWAYS_INLINE inline void resolve_rgba_pixels(const std::uint8_t* source, std::uint8_t* target,
+                                                        const xsimd::batch<float, Arch>& j0,
+                                                        const xsimd::batch<float, Arch>& j1,
+                                                        const xsimd::batch<float, Arch>& frac,
+                                                        const xsimd::batch_bool<float, Arch>& keep,
+                                                        const xsimd::batch_bool<float, Arch>& black, bool any_special) {
   REPROJECT_LANE_TYPES(Arch);
   alignas(64) std::int32_t first[L], second[L];
   alignas(64) float weight[L];

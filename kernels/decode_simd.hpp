@@ -44,18 +44,23 @@ float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
   REPROJECT_LANE_TYPES(Arch);
   const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
   const F key_far(f.key_far), limit(f.limit), one(1.0f);
+  const int width = f.source_width;
   F nearest = key_far;
   int i = 0;
   with_depth_format(f.depth.format, [&](auto format) {
-    for (; i + L <= f.source_width; i += L) {
-      const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
-      const F p = f.affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
-      const F key = s * p;
-      // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
-      nearest = vmax(nearest, xsimd::select(key >= key_far, vmin(key, limit), key_far));
-    }
+    auto columns = [&](auto affine) {
+      for (; i + L <= width; i += L) {
+        const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
+        const F p = decltype(affine)::value ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
+        const F key = s * p;
+        // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
+        nearest = vmax(nearest, xsimd::select(key >= key_far, vmin(key, limit), key_far));
+      }
+    };
+    if (f.affine) columns(std::true_type{});
+    else columns(std::false_type{});
   });
-  return nearest_key_in_columns<Fma>(f, depth, i, f.source_width, lane_max<Arch>(nearest));
+  return nearest_key_in_columns<Fma>(f, depth, i, width, lane_max<Arch>(nearest));
 }
 
 }  // namespace

@@ -105,14 +105,15 @@ constexpr int pixel_bytes_of(ColourPath path) {
 // The next row's depth and colour at the columns of target pixels [t, t + L), asked for while this
 // row computes, so that the next row's decode and resolve find them in the cache instead of
 // waiting for them stage by stage (same-run A/B, 1080p, 1 thread: float RGBA and rgba16f 6-14 %
-// faster, rgba8 0-4 %). Not for float planes: their resolve reads a kilobyte ahead in each plane
-// already, and five more prefetches per vector made them 4-5 % slower.
+// faster, rgba8 0-4 %, float planes' depth 5-10 %). Not the colour of float planes: their resolve
+// reads a kilobyte ahead in each plane already, and four more prefetches per vector made them
+// 4-5 % slower.
 template <ColourPath Path, class Arch>
 REPROJECT_ALWAYS_INLINE inline void prefetch_next_row(const ResolveRow<Arch>& row, int t) {
   constexpr int L = Lanes<Arch>::size;
   constexpr int kBytes = L * pixel_bytes_of(Path);
+  __builtin_prefetch(row.next_depth + static_cast<std::ptrdiff_t>(t) * row.depth_bytes);
   if constexpr (Path != ColourPath::planes) {  // one plane of pixels
-    __builtin_prefetch(row.next_depth + static_cast<std::ptrdiff_t>(t) * row.depth_bytes);
     const std::uint8_t* next = row.next_source + static_cast<std::ptrdiff_t>(t) * pixel_bytes_of(Path);
     for (int line = 0; line < kBytes; line += 64) __builtin_prefetch(next + line);
   }
