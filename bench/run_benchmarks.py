@@ -775,27 +775,27 @@ def write_page(data, json_path, doc_path):
         # Why the roofline targets are out of reach here: a measurement, with the command that
         # repeats it (instruction counts do not depend on the machine's load).
         w("**Where the time goes.** A format changes only the loads and stores, so it can remove memory")
-        w("traffic, not work. Instructions per frame (callgrind, AVX2 table, 1080p, colour output only,")
-        w("`valgrind --tool=callgrind --toggle-collect='reproject::reproject(*'` on two calls of the bench")
-        w("case, e.g. `--benchmark_filter='^single/avx2/1920x1080/threads:1/rgba8\\+unorm24_s8$'")
-        w("--benchmark_min_time=0.001`, 2026-11-24): `single` 63.9 M on float RGBA vs 52.8 M on")
-        w("rgba8+unorm24_s8, of which the resolve 52.5 M vs 40.7 M and the decode 4.7 M vs 5.5 M; `march16`")
-        w("106.7 M vs 96.4 M, of which the march")
+        w("traffic, not work; the next section times the computation alone. Instructions per frame")
+        w("(callgrind, AVX2 table, 1080p, colour output only, `valgrind --tool=callgrind")
+        w("--toggle-collect='reproject::reproject(*'` on two calls of the bench case, e.g.")
+        w("`--benchmark_filter='^single/avx2/1920x1080/threads:1/rgba8\\+unorm24_s8$' --benchmark_min_time=0.001`,")
+        w("2026-11-26), before issue 23's kernels (5b03e03) and after (a404105): `single` on %s" % PACKED_FORMAT)
+        w("105.2 M → 73.6 M (resolve 80.6 M → 58.8 M, decode 11.0 M → 7.9 M, search 13.0 M → 6.3 M);")
+        w("`march16` on %s 192.4 M → 135.1 M (the march 93.3 M → 60.7 M); `single` on %s" % (PACKED_FORMAT, FLOAT_FORMAT))
+        w("127.8 M → 100.3 M. What went: the resolve's frame-constant choices, masks and a thread-local")
+        w("counter in every vector (now one loop per colour path for the plain vectors, the rest apart),")
+        w("fields of the frame reloaded after every store (a float store may alias them), a zeroed column")
+        w("plan per vector, an out-of-line call per vector for float RGBA, a shift and a mask per rgba8")
+        w("channel (now one byte shuffle). What is left is the arithmetic the exact blend needs: per rgba8")
+        w("channel two conversions to float, a subtraction, an FMA and a rounding conversion, then the pack.")
         packed_roof = r.ms(roofline(FULL_HD, 2, "/" + PACKED_FORMAT))
-        per_pixel = "%.2f ns" % (packed_roof * 1e6 * 2 / (1920 * 1080)) if packed_roof else "a fraction of a ns"
-        w("46.7 M on both. That is 25 instructions a pixel for `single`, while at 2 threads the %s" % PACKED_FORMAT)
-        w("roofline above leaves each core %s a pixel (a few cycles at this VM's 2.6 GHz; the next section" % per_pixel)
-        w("times the computation alone against it), and this machine's 1080p working set sits in its L3 (the")
-        w("roofline is L3 bandwidth, not DRAM's). The speed-up")
-        w("over float RGBA is the memory traffic saved; `march16`'s march, about half of its instructions,")
-        w("is the same on every format, which bounds its speed-up below `single`'s. Instructions are not")
-        w("the whole story either: taking the word formats' blend out of the resolve's planes' loop cut")
-        w("`single`'s count on rgba8+unorm24_s8 by 12 % (61.0 M to 53.9 M: stack spills gone), and its time at")
-        w("2 threads did not move (interleaved A/B, avx512: 1.437 ms before, 1.443 ms after, medians of 4")
-        w("runs of 5). Where a table's loop did spill, the same change shows in time: planar float RGB")
-        w("(the default cases) went from 159.9 M to 121.2 M instructions for two `single` calls, and at 1")
-        w("thread on AVX2 from 5.46 to 4.69 ms (`single`) and 9.71 to 8.66 ms (`exact`), on AVX-512 by")
-        w("2–4 % (A/B of the two binaries in one session, medians of 6 alternating runs of 5).")
+        per_pixel = "%.3f ns" % (packed_roof * 1e6 * 2 / (1920 * 1080)) if packed_roof else "a fraction of a ns"
+        w("That is 17.8 instructions a pixel for `single` on AVX2, while the 2-thread %s roofline" % PACKED_FORMAT)
+        w("leaves each core %s a pixel: this machine's 1080p working set sits in its L3, whose" % per_pixel)
+        w("bandwidth is the roofline here, so ≤ 1.5× of it would need several times fewer instructions, not")
+        w("fewer bytes. At 4K the frame no longer fits and the roofline is DRAM's: the same kernels come far")
+        w("closer to it there (the 4K table above). `march16`'s march is the same on every format, which")
+        w("bounds its speed-up over the float path below `single`'s.")
         w("")
 
     # --- Computation alone: a band of rows that stays in cache ---
@@ -940,17 +940,16 @@ def write_page(data, json_path, doc_path):
     w("ARM timings are **not yet measured**: no ARM hardware is at hand, and timings under `qemu-aarch64`")
     w("mean nothing (CI runs the aarch64 build's tests and a smoke run of this benchmark there, but")
     w("quotes no figure). What can be read without the hardware is the code itself, NEON's against")
-    w("AVX2's: how many instructions each stage executes per pixel on the same call (counted under")
-    w("QEMU, which counts correctly however slowly it runs), and how long the inner loops are in the")
-    w("object code, per pixel of a vector (4 lanes on NEON, 8 on AVX2). The file below says how each")
-    w("table was made.")
+    w("AVX2's: how many instructions each stage executes per pixel on the same call, counted under")
+    w("QEMU (which counts correctly however slowly it runs), per pixel of the rows' vector bodies")
+    w("(4 lanes on NEON, 8 on AVX2). The text below says how the tables were made.")
     w("")
-    mix = pathlib.Path(__file__).resolve().parent / "arm_instruction_mix.md"
+    mix = pathlib.Path(__file__).resolve().parent / "arm_instruction_counts.md"
     if mix.exists():
         for line in mix.read_text().splitlines():
             w(line)
     else:
-        w("(bench/arm_instruction_mix.md is missing: run bench/instruction_mix.py, as its header says.)")
+        w("(bench/arm_instruction_counts.md is missing: run bench/instruction_count.py, as its header says.)")
     w("")
 
     # --- Everything ---

@@ -293,8 +293,8 @@ struct WriteHits {
 // row), done here, or handed to resolve_vector. For plain lanes resolve_vector computes the same:
 // nothing is outside, so xs = x, the clamp leaves x (but turns -0 into +0: kept as vmax), a
 // clipped lane is never a hole, no lane is masked or black, and the status is hit (0) or clipped (3).
-// (Out of line, one call per row: so that each path's loop can be read in the object code,
-// bench/instruction_mix.py, whatever the compiler would have inlined.)
+// (Out of line, one call per row: so that each path's loop is a function of its own in profiles
+// and instruction counts, bench/instruction_count.py, whatever the compiler would have inlined.)
 template <ColourPath Path, bool WithDepth, class Arch, class Fma>
 __attribute__((noinline)) void resolve_hits(const ResolveRow<Arch>& whole_row, int whole, FetchModeCounts& counts) {
   REPROJECT_LANE_TYPES(Arch);
