@@ -336,23 +336,15 @@ const FormatFrame& format_frame(Size size, const PixelFormat& format) {
 constexpr int kBandRows = 32;
 int band_first_row(int height, int rows) { return (height - rows) / 2; }
 
-// Rows [first, first + count) of a view: data moved to row `first`, the height cut to `count`,
-// width and stride unchanged. A view that is not set (no data) stays unset.
-template <class T>
-PlaneView<T> band_of(PlaneView<T> plane, int first, int count) {
-  if (plane.data) {
-    plane.data = plane.row(first);
-    plane.height = count;
+// Rows [first, first + count) of a plane or depth buffer: data moved to row `first`, the height
+// cut to `count`, width and stride unchanged. A view that is not set (no data) stays unset.
+template <class Rows>
+Rows band_of(Rows rows, int first, int count) {
+  if (rows.data) {
+    rows.data = rows.row(first);
+    rows.height = count;
   }
-  return plane;
-}
-template <class Byte>
-DepthBufferT<Byte> band_of(DepthBufferT<Byte> buffer, int first, int count) {
-  if (buffer.data) {
-    buffer.data = buffer.row(first);
-    buffer.height = count;
-  }
-  return buffer;
+  return rows;
 }
 template <class T>
 ColorViewT<T> band_of(ColorViewT<T> color, int first, int count) {

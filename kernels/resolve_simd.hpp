@@ -10,6 +10,8 @@
 // its path.
 #pragma once
 
+#include <type_traits>
+
 #include "kernels/color_formats_simd.hpp"
 #include "kernels/depth_formats_simd.hpp"
 #include "kernels/simd.hpp"
@@ -20,6 +22,18 @@ namespace {  // one copy per arch TU (kernels/fma.hpp)
 // How a row's colour is read and written: a float per lane and plane; a pixel per 128-bit
 // register (float RGBA, rgba16f); a 32-bit word per lane (rgba8, rgba8_srgb).
 enum class ColourPath { planes, float_rgba, half_rgba, rgba8, rgba8_srgb };
+
+// Calls body(tag) with a compile-time tag of the colour path (as with_depth_format does for depth).
+template <class Body>
+void with_colour_path(ColourPath path, const Body& body) {
+  switch (path) {
+    case ColourPath::planes: return body(std::integral_constant<ColourPath, ColourPath::planes>{});
+    case ColourPath::float_rgba: return body(std::integral_constant<ColourPath, ColourPath::float_rgba>{});
+    case ColourPath::half_rgba: return body(std::integral_constant<ColourPath, ColourPath::half_rgba>{});
+    case ColourPath::rgba8: return body(std::integral_constant<ColourPath, ColourPath::rgba8>{});
+    case ColourPath::rgba8_srgb: return body(std::integral_constant<ColourPath, ColourPath::rgba8_srgb>{});
+  }
+}
 
 inline ColourPath colour_path_of(const Frame& f) {
   switch (f.color_format) {
@@ -243,23 +257,9 @@ __attribute__((noinline)) void resolve_vector(const ResolveRow<Arch>& row, int t
   const B black = outside & B(row.black_edges);
   const bool any_black = row.black_edges && xsimd::any(black);
   columns.visit([&](const auto& fetch) {
-    switch (row.path) {
-      case ColourPath::planes:
-        write_colour<ColourPath::planes, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
-        break;
-      case ColourPath::float_rgba:
-        write_colour<ColourPath::float_rgba, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
-        break;
-      case ColourPath::half_rgba:
-        write_colour<ColourPath::half_rgba, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
-        break;
-      case ColourPath::rgba8:
-        write_colour<ColourPath::rgba8, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
-        break;
-      case ColourPath::rgba8_srgb:
-        write_colour<ColourPath::rgba8_srgb, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
-        break;
-    }
+    with_colour_path(row.path, [&](auto path) {
+      write_colour<decltype(path)::value, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
+    });
     if (row.depth_out) write_depth<Arch, Fma>(row, fetch, t, frac, write, masked);
   });
   if (row.status_out) {
@@ -346,13 +346,8 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   const ResolveRow<Arch> row(f, y, scratch);
   const int whole = f.target_width / L * L;
   FetchModeCounts counts{};
-  switch (row.path) {
-    case ColourPath::planes: resolve_hits_of_path<ColourPath::planes, Arch, Fma>(row, whole, counts); break;
-    case ColourPath::float_rgba: resolve_hits_of_path<ColourPath::float_rgba, Arch, Fma>(row, whole, counts); break;
-    case ColourPath::half_rgba: resolve_hits_of_path<ColourPath::half_rgba, Arch, Fma>(row, whole, counts); break;
-    case ColourPath::rgba8: resolve_hits_of_path<ColourPath::rgba8, Arch, Fma>(row, whole, counts); break;
-    case ColourPath::rgba8_srgb: resolve_hits_of_path<ColourPath::rgba8_srgb, Arch, Fma>(row, whole, counts); break;
-  }
+  with_colour_path(row.path,
+                   [&](auto path) { resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, counts); });
   for (int m = 0; m < 4; ++m) t_fetch_modes.vectors[m] += counts.vectors[m];
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail
 }
