@@ -334,6 +334,7 @@ const FormatFrame& format_frame(Size size, const PixelFormat& format) {
 // The band cases' height, and the first row of a band of `rows` rows in the middle of a frame
 // `height` rows high (1080p: rows 524..555).
 constexpr int kBandRows = 32;
+constexpr Method kBandMethods[] = {Method::single, Method::march16, Method::exact};
 int band_first_row(int height, int rows) { return (height - rows) / 2; }
 
 // Rows [first, first + count) of a plane or depth buffer: data moved to row `first`, the height
@@ -695,27 +696,31 @@ void register_all() {
   std::vector<Arch> format_archs;
   if (arch_supported(Arch::avx2)) format_archs.push_back(Arch::avx2);
   if (archs.back() != Arch::avx2) format_archs.push_back(archs.back());
-  auto register_format_roofline = [](Size size, int threads, const PixelFormat& format, int band_rows,
-                                     const std::string& suffix) {
+  // A format's roofline at a size and thread count, then `methods` on each of format_archs;
+  // `band_rows` > 0: only that many rows in the middle of the frame (band_of).
+  auto register_format_cases = [&](Size size, int threads, const PixelFormat& format, int band_rows,
+                                   const auto& methods) {
+    const std::string suffix =
+        std::string("/") + format.name + (band_rows > 0 ? "/band:" + std::to_string(band_rows) : std::string());
     const std::string roof = "roofline/" + size_name(size) + "/threads:" + std::to_string(threads) + suffix;
     finish(benchmark::RegisterBenchmark(roof.c_str(), bm_roofline_format, size, threads, &format, band_rows));
+    for (Method method : methods) {
+      for (Arch arch : format_archs) {
+        Case c;
+        c.method = method;
+        c.arch = arch;
+        c.size = size;
+        c.threads = threads;
+        c.format = &format;
+        c.band_rows = band_rows;
+        register_case(c, suffix);
+      }
+    }
   };
   for (Size size : kFormatSizes) {
     for (int threads : kThreadCounts) {
       for (const PixelFormat& format : kPixelFormats) {
-        const std::string suffix = std::string("/") + format.name;
-        register_format_roofline(size, threads, format, 0, suffix);
-        for (Method method : kMethods) {
-          for (Arch arch : format_archs) {
-            Case c;
-            c.method = method;
-            c.arch = arch;
-            c.size = size;
-            c.threads = threads;
-            c.format = &format;
-            register_case(c, suffix);
-          }
-        }
+        register_format_cases(size, threads, format, 0, kMethods);
       }
     }
   }
@@ -724,19 +729,7 @@ void register_all() {
   for (int threads : kThreadCounts) {
     for (const PixelFormat& format : kPixelFormats) {
       if (std::strcmp(format.name, "rgba8+unorm24_s8") != 0 && std::strcmp(format.name, "rgba32f+float") != 0) continue;
-      const std::string suffix = std::string("/") + format.name + "/band:" + std::to_string(kBandRows);
-      register_format_roofline(kFullHd, threads, format, kBandRows, suffix);
-      for (Method method : {Method::single, Method::march16, Method::exact}) {
-        for (Arch arch : format_archs) {
-          Case c;
-          c.method = method;
-          c.arch = arch;
-          c.threads = threads;
-          c.format = &format;
-          c.band_rows = kBandRows;
-          register_case(c, suffix);
-        }
-      }
+      register_format_cases(kFullHd, threads, format, kBandRows, kBandMethods);
     }
   }
   // In cache: one colour plane at 512x512, march16 on every arch.

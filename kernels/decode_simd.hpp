@@ -10,6 +10,14 @@
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
+// Calls body(tag) with the decode's shape as a compile-time tag (true: affine, p = fma(scale, d,
+// offset); false: reciprocal, p = fma(b, 1/d, a)), so that a row loop branches on it once.
+template <class Body>
+void with_decode_shape(const Frame& f, const Body& body) {
+  if (f.affine) body(std::true_type{});
+  else body(std::false_type{});
+}
+
 // Scalar twin: decode_parallax_columns.
 template <class Arch, class Fma>
 void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored) {
@@ -20,7 +28,7 @@ void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, flo
   int i = 0;
   // One loop per depth format and decode shape, without a branch per vector for either.
   with_depth_format(f.depth.format, [&](auto format) {
-    auto columns = [&](auto affine) {
+    with_decode_shape(f, [&](auto affine) {
       for (; i + L <= width; i += L) {
         const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
         if (stored) d.store_unaligned(stored + i);
@@ -30,9 +38,7 @@ void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, flo
         p = xsimd::select(key > limit, near_bound, p);
         (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
       }
-    };
-    if (f.affine) columns(std::true_type{});
-    else columns(std::false_type{});
+    });
   });
   decode_parallax_columns<Fma>(f, depth, parallax, stored, i, width);
 }
@@ -48,7 +54,7 @@ float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
   F nearest = key_far;
   int i = 0;
   with_depth_format(f.depth.format, [&](auto format) {
-    auto columns = [&](auto affine) {
+    with_decode_shape(f, [&](auto affine) {
       for (; i + L <= width; i += L) {
         const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
         const F p = decltype(affine)::value ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
@@ -56,9 +62,7 @@ float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
         // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
         nearest = vmax(nearest, xsimd::select(key >= key_far, vmin(key, limit), key_far));
       }
-    };
-    if (f.affine) columns(std::true_type{});
-    else columns(std::false_type{});
+    });
   });
   return nearest_key_in_columns<Fma>(f, depth, i, width, lane_max<Arch>(nearest));
 }

@@ -234,7 +234,7 @@ TEST_P(ExactNearBands, BitIdenticalAroundTheBands) {
       float* w = frame.depth.data() + 1 + y * frame.stride;
       // Disparity: a far background, gently sloped, then objects nearer than it.
       const float slope = (unit(rng) - 0.5f) * 0.004f;
-      for (int x = 0; x < c.width; ++x) w[x] = 0.1f + 0.2f * unit(rng) * 0.1f + slope * static_cast<float>(x);
+      for (int x = 0; x < c.width; ++x) w[x] = 0.1f + 0.02f * unit(rng) + slope * static_cast<float>(x);
       const int objects = 1 + static_cast<int>(unit(rng) * 2.0f);
       for (int o = 0; o < objects; ++o) {
         // Wide objects, or poles of a few columns far nearer than the limit (whose rays start
