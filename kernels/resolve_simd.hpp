@@ -118,10 +118,9 @@ constexpr int pixel_bytes_of(ColorPath path) {
 
 // The next row's depth and colour at the columns of target pixels [t, t + L), asked for while this
 // row computes, so that the next row's decode and resolve find them in the cache instead of
-// waiting for them stage by stage (same-run A/B, 1080p, 1 thread: float RGBA and rgba16f 6-14 %
-// faster, rgba8 0-4 %, float planes' depth 5-10 %). Not the colour of float planes: their resolve
-// reads a kilobyte ahead in each plane already, and four more prefetches per vector made them
-// 4-5 % slower.
+// waiting for them stage by stage. Not the colour of float planes: their resolve reads a kilobyte
+// ahead in each plane already, and four more prefetches per vector made them slower
+// (docs/PERFORMANCE.md, "Measured design choices").
 template <ColorPath Path, class Arch>
 REPROJECT_ALWAYS_INLINE inline void prefetch_next_row(const RowContext<Arch>& row, int t) {
   constexpr int L = Lanes<Arch>::size;
@@ -167,8 +166,8 @@ REPROJECT_ALWAYS_INLINE inline void write_color(const RowContext<Arch>& row, con
                       any_black);
   } else {
     for (int c = 0; c < row.planes; ++c) {
-      // A kilobyte ahead in each colour plane: a measured 1-3 % over the hardware prefetcher
-      // alone, which tracks this many streams less well.
+      // A kilobyte ahead in each colour plane: the hardware prefetcher alone tracks this many
+      // streams less well (docs/PERFORMANCE.md, "Measured design choices").
       __builtin_prefetch(row.source[c] + 4 * t + 1024);
       F c0, c1;
       fetch(reinterpret_cast<const float*>(row.source[c]), c0, c1);
@@ -271,8 +270,8 @@ __attribute__((noinline)) void resolve_vector(const RowContext<Arch>& row, int t
 
 // Colour and depth of hit pixels [t, t + L) (every lane written, none black) for one column
 // fetch: ColumnFetch::visit's body in the hit loop. A functor so that it can be forced inline:
-// GCC kept the equivalent lambda out of line, and the call per vector (its vector arguments
-// passed through memory) made the planar float path 15-20 % slower (same-run A/B, `single`).
+// GCC kept the equivalent lambda out of line, and the call per vector passed its vector arguments
+// through memory (docs/PERFORMANCE.md, "Measured design choices").
 template <ColorPath Path, bool WithDepth, class Arch, class Fma>
 struct WriteHits {
   using F = typename Lanes<Arch>::F;

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 
+#include "kernels/fma.hpp"
 #include "src/nan_reason.hpp"
 
 namespace reproject {
@@ -57,7 +58,7 @@ double eye_offset(EyeDirection direction) noexcept {
 
 float ParallaxModel::parallax(float inverse_depth) const noexcept {
   // Fused, as the kernels round it (DESIGN §6: fma on both the scalar and the SIMD side).
-  return std::fma(b, inverse_depth, a);
+  return detail::fused_madd(b, inverse_depth, a);
 }
 
 ParallaxModel ParallaxModel::from_stereo(double separation, double convergence, int width,

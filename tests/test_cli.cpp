@@ -336,7 +336,7 @@ TEST(CliScenes, FeaturesMatchTheDefaultScene) {
     rs::View a, b;
     ASSERT_TRUE(scene.render(cam, &a).ok());
     ASSERT_TRUE(room.render(cam, &b).ok());
-    long same_object = 0, same_colour = 0;
+    long same_object = 0, same_color = 0;
     for (int y = 0; y < cam.height; ++y) {
       for (int x = 0; x < cam.width; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * cam.width + x;
@@ -344,11 +344,11 @@ TEST(CliScenes, FeaturesMatchTheDefaultScene) {
         ++same_object;
         bool equal = at(a.depth, 0, x, y) == at(b.depth, 0, x, y);
         for (int c = 0; c < 3; ++c) equal = equal && at(a.color, c, x, y) == at(b.color, c, x, y);
-        same_colour += equal;
+        same_color += equal;
       }
     }
     EXPECT_GT(same_object, cam.width * cam.height / 4);
-    EXPECT_EQ(same_colour, same_object);
+    EXPECT_EQ(same_color, same_object);
   }
   {
     const rs::Scene scene = rs::Scene::make(rs::SceneId::near);
@@ -1476,15 +1476,15 @@ void ensure_half_exr() {
   static bool done = false;
   if (done) return;
   ensure_room();
-  Image colour = read_color("room/centre.png");
+  Image color = read_color("room/centre.png");
   for (int c = 0; c < 3; ++c) {
     for (int y = 0; y < kH; ++y) {
-      for (int x = 0; x < kW; ++x) colour.plane_data(c)[y * colour.stride() + x] /= 255.0f;
+      for (int x = 0; x < kW; ++x) color.plane_data(c)[y * color.stride() + x] /= 255.0f;
     }
   }
   reproject::io::ExrWriteOptions options;
   options.color_type = reproject::io::ExrPixelType::half;
-  ASSERT_TRUE(reproject::io::write_exr(path("centre-half.exr"), colour.color(), nullptr, options).ok());
+  ASSERT_TRUE(reproject::io::write_exr(path("centre-half.exr"), color.color(), nullptr, options).ok());
   done = true;
 }
 
@@ -1742,12 +1742,12 @@ TEST(CliRaw, PackedLinearDepthMatchesFloatDepth) {
   ASSERT_EQ(f.code, 0) << f.err;
   EXPECT_TRUE(contains(r.out, "depth rgba8_packed_linear (raw)")) << r.out;
   const Difference status = difference(read_color("packed-raw-s.png"), read_color("packed-flt-s.png"), 1);
-  const Difference colour = difference(read_color("packed-raw.png"), read_color("packed-flt.png"), 3);
+  const Difference color = difference(read_color("packed-raw.png"), read_color("packed-flt.png"), 3);
   const Difference depth = difference(read_plane("packed-raw-d.pfm"), read_plane("packed-flt-d.pfm"), 1);
   std::printf("[ raw      ] rgba8_packed_linear: %ld status differ, colour max %g LSB, depth max %g\n", status.differing,
-              colour.max, depth.max);
+              color.max, depth.max);
   EXPECT_EQ(status.differing, 0);
-  EXPECT_LE(colour.max, 1.0);
+  EXPECT_LE(color.max, 1.0);
   EXPECT_LE(depth.max, 19.0 / 16581375.0 * 2.0);  // within the packing's step, twice
 }
 
