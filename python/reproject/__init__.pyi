@@ -7,6 +7,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import metrics as metrics
+from . import video as video
 
 Method: TypeAlias = Literal["scanline", "march16", "single", "secant", "exact"]
 Arch: TypeAlias = Literal["scalar", "sse", "avx2", "avx512", "neon"]
@@ -295,4 +296,4 @@ class SceneViews:
 
 def scene(name: SceneName = "room", width: int = 960, height: int = 540, *, fov: float = 60.0,
           encoding: Encoding = "standard", separation: float | None = None, convergence: float | None = None,
-          threads: int = 0) -> SceneViews: ...
+          offset: float = 0.0, threads: int = 0) -> SceneViews: ...
