@@ -41,7 +41,14 @@ def av():
 def color_tags(container, index):
     """The stream's colour range, matrix, primaries and transfer, as FFmpeg names them (PyAV 10
     exposes none of them: they are read from FFmpeg's own description of the stream)."""
-    lines = [line for line in container.dumps_format().splitlines() if f"Stream #0:{index}" in line]
+    logging = av().logging
+    quiet = logging.get_level()
+    logging.set_level(logging.INFO)  # the description is FFmpeg's log output
+    try:
+        text = container.dumps_format()
+    finally:
+        logging.set_level(quiet)
+    lines = [line for line in text.splitlines() if f"Stream #0:{index}" in line]
     match = _TAG_LINE.search(lines[0]) if lines else None
     tags = {}
     if match and match.group(2):

@@ -551,6 +551,8 @@ def _join_video(job, spec, temporary):
     with av.open(parts[0]) as first, av.open(temporary, "w", options=options) as out, \
             contextlib.ExitStack() as stack:
         video = out.add_stream(template=first.streams.video[0])
+        # NUT parts keep no colour tags: the output's stream gets them again from its settings.
+        video.codec_context.options = dict(spec.tags)
         if spec.stereo_mode:
             video.metadata["stereo_mode"] = spec.stereo_mode
         sources, copies = [], []
