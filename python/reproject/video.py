@@ -399,7 +399,7 @@ class _VideoPart:
         self.temporary = _part_path(job, spec, index, temporary=True)
         self.temporary = self.temporary + ".nut"
         self.container = av.open(self.temporary, "w",
-                                 format="nut", options={"avoid_negative_ts": "disabled"})
+                                 format="nut", options={"avoid_negative_ts": "disabled", "fflags": "+bitexact"})
         source = job.colour
         self.stream = self.container.add_stream(spec.codec, rate=source.rate)
         self.stream.codec_context.time_base = source.time_base
@@ -547,7 +547,9 @@ def _join_video(job, spec, temporary):
     copied packet for packet, into `temporary`."""
     av = _media.av()
     parts = [_part_path(job, spec, i) for i in range(len(job.segments))]
-    options = {"avoid_negative_ts": "disabled"} if spec.extension == ".mkv" else {}  # timestamps as they are
+    # Timestamps as they are; no random or dated fields, so the same parts always give the same bytes.
+    options = {"avoid_negative_ts": "disabled"} if spec.extension == ".mkv" else {}
+    options["fflags"] = "+bitexact"
     with av.open(parts[0]) as first, av.open(temporary, "w", options=options) as out, \
             contextlib.ExitStack() as stack:
         video = out.add_stream(template=first.streams.video[0])

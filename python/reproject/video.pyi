@@ -1,6 +1,6 @@
 # Types of reproject.video (documented at run time: help(reproject.video.convert)).
 import os
-from typing import Callable, Literal
+from typing import Callable, Literal, TypedDict
 
 from . import Arch, EdgeMode, Encoding, HoleFill, Method
 
@@ -14,6 +14,12 @@ layouts: tuple[str, ...]
 codecs: tuple[str, ...]
 
 class ConvertError(ValueError): ...
+
+class _SceneCamera(TypedDict):
+    encoding: Literal["linear"]
+    depth_scale: float
+    separation: float
+    convergence: float
 
 def convert(color: _Path, depth: _Path, out: _Path, *, layout: Layout = "sbsl", suffix: bool = False,
             codec: Codec | None = None, pixel_format: str | None = None, crf: int | None = None,
@@ -29,4 +35,4 @@ def convert(color: _Path, depth: _Path, out: _Path, *, layout: Layout = "sbsl", 
             resume: bool = False, workers: int | None = None, scheduler: str | None = None, retries: int = 2,
             progress: Callable[[int, int], object] | None = None, quiet: bool = True) -> list[str]: ...
 def scene_video(out_dir: _Path, *, scene: str = "room", width: int = 640, height: int = 360, frames: int = 48,
-                fps: int = 24, sway: float = 2.0, fov: float = 60.0, quiet: bool = True) -> dict[str, object]: ...
+                fps: int = 24, sway: float = 2.0, fov: float = 60.0, quiet: bool = True) -> _SceneCamera: ...
