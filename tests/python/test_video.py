@@ -53,7 +53,10 @@ def warp_pair_of(colour, depth_mm):
 
 def test_every_frame_is_the_librarys_pair_of_the_decoded_inputs(clip, tmp_path):
     out = tmp_path / "sbs.mkv"
-    assert convert(clip / "rgb.mkv", clip / "depth.mkv", out, codec="ffv1", segment_frames=6, **CAMERA) == [str(out)]
+    calls = []
+    assert convert(clip / "rgb.mkv", clip / "depth.mkv", out, codec="ffv1", segment_frames=6,
+                   progress=lambda done, total: calls.append((done, total)), **CAMERA) == [str(out)]
+    assert calls == [(k, N) for k in range(1, N + 1)]
     colours = media.decoded(clip / "rgb.mkv", "rgb24")
     depths = media.decoded(clip / "depth.mkv", "gray16le")
     frames = media.decoded(out, "rgb24")
@@ -63,6 +66,12 @@ def test_every_frame_is_the_librarys_pair_of_the_decoded_inputs(clip, tmp_path):
         assert sbs.shape == (H, 2 * W, 3)
         assert np.array_equal(sbs[:, :W], left) and np.array_equal(sbs[:, W:], right)
     assert not any("reproject" in name for name in os.listdir(tmp_path))  # parts and temporaries gone
+
+
+def test_the_progress_bar_shows_frames_per_second(clip, tmp_path, capsys):
+    convert(clip / "rgb.mkv", clip / "depth.mkv", tmp_path / "bar.mkv", codec="ffv1", quiet=False, **CAMERA)
+    bar = capsys.readouterr().err
+    assert f"100%" in bar and f"{N}/{N}" in bar and "frame/s" in bar
 
 
 def test_layouts_and_their_suffixes(clip, tmp_path):
