@@ -115,6 +115,34 @@ class Family:
         return "gray" if self.bits == 8 else "gray16le"
 
 
+_SUBSAMPLING = {"420": (2, 2), "422": (1, 2), "444": (1, 1), "440": (2, 1), "411": (1, 4), "410": (4, 4)}
+
+
+def chroma_factors(name):
+    """(rows, columns) per chroma sample of a planar little-endian YUV format, or None."""
+    match = re.fullmatch(r"yuvj?a?(4\d\d)p(\d+le)?", name)
+    return _SUBSAMPLING.get(match.group(1)) if match else None
+
+
+def upsample(chroma, factors, height, width):
+    """Each chroma sample repeated over the pixels it covers (so that down(up(c)) is c exactly)."""
+    rows, columns = factors
+    return np.repeat(np.repeat(chroma, rows, axis=0), columns, axis=1)[:height, :width]
+
+
+def downsample(samples, factors, height, width):
+    """The mean of the pixels each chroma sample covers (edge pixels repeated for odd sizes),
+    rounded; numpy's, so the same bits in every process (swscale's fast paths depend on the
+    buffers' alignment)."""
+    rows, columns = factors
+    padded = np.pad(samples, ((0, height * rows - samples.shape[0]), (0, width * columns - samples.shape[1])),
+                    mode="edge")
+    blocks = padded.reshape(height, rows, width, columns)
+    if samples.dtype == np.uint8:
+        return ((blocks.sum(axis=(1, 3), dtype=np.uint32) + rows * columns // 2) // (rows * columns)).astype(np.uint8)
+    return np.rint(blocks.mean(axis=(1, 3), dtype=np.float64))
+
+
 def plane(frame, index, dtype):
     """A writable view of one plane of a planar frame, (height, width) samples."""
     p = frame.planes[index]
@@ -339,6 +367,16 @@ def color_array(frame, working, colorspace):
             return out
         return np.repeat(samples[None].astype(np.float32), 3, axis=0)
     if kind == "yuv":
+        factors = chroma_factors(frame.format.name)
+        if factors is not None and (Family(frame.format.name).bits > 8) == (bits > 8):
+            dtype = np.uint8 if bits == 8 else "<u2"
+            luma = plane(frame, 0, dtype)
+            chroma = [upsample(plane(frame, i, dtype), factors, frame.height, frame.width) for i in (1, 2)]
+            if bits > 8:
+                return np.stack([luma, *chroma]).astype(np.float32)
+            out = np.empty((frame.height, frame.width, 4), np.uint8)
+            out[..., 0], out[..., 1], out[..., 2], out[..., 3] = luma, chroma[0], chroma[1], 255
+            return out
         planar = frame.reformat(format=planar_format)
         order = (0, 1, 2)
     else:
@@ -357,6 +395,19 @@ def to_video_frame(picture, working, out_format, colorspace):
     """The working form back to a frame of the output's pixel format."""
     module = av()
     kind, bits, planar_format = working
+    factors = chroma_factors(out_format)
+    if kind == "yuv" and factors is not None and (Family(out_format).bits > 8) == (bits > 8):
+        height, width = picture.shape[:2] if bits == 8 else picture.shape[-2:]
+        frame = module.VideoFrame(width, height, out_format)
+        dtype = np.uint8 if bits == 8 else "<u2"
+        top = (1 << Family(out_format).bits) - 1
+        for index in range(3):
+            samples = picture[..., index] if bits == 8 else picture[index]
+            target = plane(frame, index, dtype)
+            if index:
+                samples = downsample(samples, factors, target.shape[0], target.shape[1])
+            target[...] = samples if bits == 8 else np.clip(np.rint(samples), 0, top)
+        return frame
     order = (0, 1, 2) if kind == "yuv" else (1, 2, 0)  # Y, U, V or G, B, R planes
     if bits == 8:
         height, width = picture.shape[:2]

@@ -631,29 +631,29 @@ def _prepare_parts(job, resume):
 
 
 def _preflight(job):
-    """Opens every video output's encoder and container once before any work, so that a codec, pixel
-    format or stream the container cannot carry fails at once and costs nothing."""
+    """Writes the header of each video output's container with the colour input's audio and
+    subtitle streams once before any work, so that a stream the container cannot carry (FLAC in
+    .mp4, say) fails at once and costs nothing. (No video encoder is opened here: an x264 instance
+    opened and dropped before the segments' own made their bitstreams vary from run to run.)"""
+    if job.colour.kind != "video":
+        return
     av = _media.av()
     for spec in job.outputs:
         if spec.images:
             continue
         probe = os.path.join(job.parts, f".preflight{spec.extension}")
         try:
-            with av.open(probe, "w") as out:
-                stream = out.add_stream(spec.codec, rate=job.colour.rate)
-                stream.width, stream.height, stream.pix_fmt = 16, 16, spec.pixel_format
-                stream.options = dict(spec.options)
-                if job.colour.kind == "video":
-                    with av.open(job.colour.path) as colour:
-                        for s in colour.streams:
-                            if s.type in ("audio", "subtitle"):
-                                out.add_stream(template=s)
-                        out.start_encoding()
-                else:
+            with av.open(job.colour.path) as colour:
+                copied = [s for s in colour.streams if s.type in ("audio", "subtitle")]
+                if not copied:
+                    return
+                with av.open(probe, "w") as out:
+                    for stream in copied:
+                        out.add_stream(template=stream)
                     out.start_encoding()
         except (av.AVError, ValueError) as error:
-            raise ConvertError(f"output '{spec.path}' cannot be written as {spec.codec} {spec.pixel_format} with the "
-                               f"colour input's audio and subtitle streams: {error}") from None
+            raise ConvertError(f"output '{spec.path}' cannot carry the audio and subtitle streams of colour "
+                               f"'{job.colour.path}': {error}") from None
         finally:
             with contextlib.suppress(OSError):
                 os.remove(probe)
