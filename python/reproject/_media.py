@@ -399,6 +399,8 @@ def to_video_frame(picture, working, out_format, colorspace):
     if kind == "yuv" and factors is not None and (Family(out_format).bits > 8) == (bits > 8):
         height, width = picture.shape[:2] if bits == 8 else picture.shape[-2:]
         frame = module.VideoFrame(width, height, out_format)
+        for p in frame.planes:  # the rows' padding too: an encoder may read it
+            np.frombuffer(p, np.uint8)[...] = 0
         dtype = np.uint8 if bits == 8 else "<u2"
         top = (1 << Family(out_format).bits) - 1
         for index in range(3):
