@@ -975,6 +975,14 @@ def write_page(data, json_path, doc_path):
     w("</details>")
     w("")
 
+    # The video section is measured by bench/video_throughput.py, not by this run: carried over.
+    if os.path.exists(doc_path):
+        with open(doc_path, encoding="utf-8") as f:
+            previous = f.read()
+        start = previous.find("\n## Sequences and videos\n")
+        if start >= 0:
+            end = previous.find("\n## ", start + 1)
+            out.append(previous[start + 1:end if end >= 0 else len(previous)].rstrip("\n") + "\n")
     os.makedirs(os.path.dirname(os.path.abspath(doc_path)), exist_ok=True)
     with open(doc_path, "w", encoding="utf-8") as f:
         f.write("\n".join(out))
