@@ -45,12 +45,12 @@ def main():
     args = parser.parse_args()
     width, height, count = 1920, 1080, args.frames
     folder = tempfile.mkdtemp(prefix="reproject-throughput-")
-    colour_path, depth_path = os.path.join(folder, "colour.mp4"), os.path.join(folder, "depth.mkv")
-    media.write_video(colour_path, [media.texture(width, height, k) for k in range(count)], "yuv420p",
+    color_path, depth_path = os.path.join(folder, "colour.mp4"), os.path.join(folder, "depth.mkv")
+    media.write_video(color_path, [media.texture(width, height, k) for k in range(count)], "yuv420p",
                       codec="libx264", options={"crf": "18"})
     media.write_video(depth_path, [media.depth_codes(width, height, k) for k in range(count)], "gray16le",
                       source_format="gray16le")
-    job = video._plan(colour_path, depth_path, os.path.join(folder, "sbs.mp4"), "sbsl", False, None, None, None, None,
+    job = video._plan(color_path, depth_path, os.path.join(folder, "sbs.mp4"), "sbsl", False, None, None, None, None,
                       video._resolve_camera("linear", None, None, None, 4.0, None, None, False, None, None, False,
                                             None), 0.001, None, 0, dict(method="exact"), None, args.threads)
     decoder, model = video._camera(job, width)
@@ -58,17 +58,17 @@ def main():
 
     def decode():
         arrays.clear()
-        for i, (c, d) in enumerate(zip(job.colour.frames(0, count), job.depth.frames(0, count))):
-            colour = _media.color_array(c, job.working, job.colorspace)
+        for i, (c, d) in enumerate(zip(job.color.frames(0, count), job.depth.frames(0, count))):
+            color = _media.color_array(c, job.working, job.colorspace)
             depth = video._depth_values(job, d, i, decoder)
             if i < 8:
-                arrays.append((colour, depth))
+                arrays.append((color, depth))
 
     def reproject_all():
         previous = None
         for i in range(count):
-            colour, depth = arrays[i % len(arrays)]
-            previous = reproject.warp_pair(colour, depth, decoder=decoder, model=model, threads=args.threads,
+            color, depth = arrays[i % len(arrays)]
+            previous = reproject.warp_pair(color, depth, decoder=decoder, model=model, threads=args.threads,
                                            out_left=previous.left if previous else None,
                                            out_right=previous.right if previous else None)
     decode()
@@ -95,7 +95,7 @@ def main():
 
     def end_to_end(workers):
         def run():
-            video.convert(colour_path, depth_path, os.path.join(folder, f"sbs{workers}.mp4"), workers=workers,
+            video.convert(color_path, depth_path, os.path.join(folder, f"sbs{workers}.mp4"), workers=workers,
                           threads=None if workers else args.threads or None, **CAMERA)
         return run
 

@@ -69,7 +69,7 @@ class _Output:
 
 @dataclasses.dataclass
 class _Job:
-    colour: _media.Source
+    color: _media.Source
     depth: _media.Source
     outputs: list
     layout: str
@@ -159,7 +159,7 @@ def _same_file(a, b):
         return os.path.realpath(a) == os.path.realpath(b)
 
 
-def _output_specs(out, layout, suffix, codec, pixel_format, crf, job_tags, working, width, height, colour):
+def _output_specs(out, layout, suffix, codec, pixel_format, crf, job_tags, working, width, height, color):
     base, extension = os.path.splitext(os.fspath(out))
     extension = extension.lower()
     images = "%" in os.fspath(out)
@@ -177,12 +177,12 @@ def _output_specs(out, layout, suffix, codec, pixel_format, crf, job_tags, worki
     for tag, name in names:
         spec = _Output(path=name + extension, tag=tag, images=images, extension=extension)
         if not images:
-            _video_settings(spec, codec, pixel_format, crf, job_tags, working, packed_w, packed_h, layout, colour)
+            _video_settings(spec, codec, pixel_format, crf, job_tags, working, packed_w, packed_h, layout, color)
         specs.append(spec)
     return specs
 
 
-def _video_settings(spec, codec, pixel_format, crf, tags, working, width, height, layout, colour):
+def _video_settings(spec, codec, pixel_format, crf, tags, working, width, height, layout, color):
     av = _media.av()
     spec.codec = codec or "libx264"
     if spec.codec not in codecs:
@@ -192,7 +192,7 @@ def _video_settings(spec, codec, pixel_format, crf, tags, working, width, height
     supported = [f.name for f in av.Codec(spec.codec, "w").video_formats]
     kind, bits, planar = working
     if pixel_format is None:
-        source = colour.family.name if colour.family is not None and kind == "yuv" else ""
+        source = color.family.name if color.family is not None and kind == "yuv" else ""
         if source in supported:
             pixel_format = source
         elif spec.codec == "ffv1":
@@ -225,9 +225,9 @@ def _plan(color, depth, out, layout, suffix, codec, pixel_format, crf, fps, came
           dilate_depth, warp_options, segment_frames, threads):
     if layout not in layouts:
         raise ConvertError(f"unknown layout '{layout}' ({', '.join(layouts)})")
-    colour_source = _media.Source("colour", color, fps)
+    color_source = _media.Source("colour", color, fps)
     depth_source = _media.Source("depth", depth, fps)
-    c, d = colour_source, depth_source
+    c, d = color_source, depth_source
     if (c.width, c.height) != (d.width, d.height):
         raise ConvertError(f"colour '{c.path}' is {c.width}x{c.height} but depth '{d.path}' is {d.width}x{d.height}")
     if c.count != d.count:
@@ -272,7 +272,7 @@ def _plan(color, depth, out, layout, suffix, codec, pixel_format, crf, fps, came
     parts = (os.path.join(os.path.dirname(first) or ".", ".reproject-parts") if outputs[0].images
              else first + ".reproject-parts")
     direction_pair = direction is None
-    return _Job(colour=c, depth=d, outputs=outputs, layout=layout, working=working,
+    return _Job(color=c, depth=d, outputs=outputs, layout=layout, working=working,
                 colorspace=_media.colorspace_of(tags), decoder=decoder, model=model, pair=direction_pair,
                 left_to_right=direction != "right-to-left", depth_scale=depth_scale, unknown_depth=unknown_depth,
                 dilate_depth=dilate_depth, warp_options=warp_options, segments=segments, parts=parts,
@@ -292,7 +292,7 @@ def _fingerprint(job):
         info = os.stat(path)
         return [path, info.st_size, info.st_mtime_ns]
     sources = []
-    for source in (job.colour, job.depth):
+    for source in (job.color, job.depth):
         files = source.files if source.files is not None else [source.path]
         sources.append([stat(files[0]), stat(files[-1]), len(files)])
     from . import __version__
@@ -400,7 +400,7 @@ class _VideoPart:
         self.temporary = self.temporary + ".nut"
         self.container = av.open(self.temporary, "w",
                                  format="nut", options={"avoid_negative_ts": "disabled", "fflags": "+bitexact"})
-        source = job.colour
+        source = job.color
         self.stream = self.container.add_stream(spec.codec, rate=source.rate)
         self.stream.codec_context.time_base = source.time_base
         self.stream.options = dict(spec.options)
@@ -411,8 +411,8 @@ class _VideoPart:
         if self.frames == 0:
             self.stream.width, self.stream.height = frame.width, frame.height
             self.stream.pix_fmt = self.spec.pixel_format
-        frame.pts = int(self.job.colour.pts[index])
-        frame.time_base = self.job.colour.time_base
+        frame.pts = int(self.job.color.pts[index])
+        frame.time_base = self.job.color.time_base
         for packet in self.stream.encode(frame):
             self.container.mux(packet)
         self.frames += 1
@@ -462,27 +462,27 @@ def _segment(job, index, on_frame=None):
     start, stop = job.segments[index]
     if all(os.path.exists(_part_path(job, spec, index)) for spec in job.outputs):
         return stop - start
-    decoder, model = _camera(job, job.colour.width)
+    decoder, model = _camera(job, job.color.width)
     parts = []
     options = dict(job.warp_options, threads=job.threads)
     try:
         parts = [(_ImagePart if spec.images else _VideoPart)(job, spec, index) for spec in job.outputs]
         previous = None
-        colour_frames, depth_frames = job.colour.frames(start, stop), job.depth.frames(start, stop)
-        with contextlib.closing(colour_frames), contextlib.closing(depth_frames):
-            for offset, (colour_frame, depth_frame) in enumerate(zip(colour_frames, depth_frames)):
+        color_frames, depth_frames = job.color.frames(start, stop), job.depth.frames(start, stop)
+        with contextlib.closing(color_frames), contextlib.closing(depth_frames):
+            for offset, (color_frame, depth_frame) in enumerate(zip(color_frames, depth_frames)):
                 i = start + offset
-                colour = _media.color_array(colour_frame, job.working, job.colorspace)
+                color = _media.color_array(color_frame, job.working, job.colorspace)
                 depth = _depth_values(job, depth_frame, i, decoder)
                 try:
                     if job.pair:
-                        previous = warp_pair(colour, depth, decoder=decoder, model=model, **options,
+                        previous = warp_pair(color, depth, decoder=decoder, model=model, **options,
                                              out_left=previous.left if previous else None,
                                              out_right=previous.right if previous else None)
                         left, right = previous.left.color, previous.right.color
                     else:
-                        previous = warp(colour, depth, decoder=decoder, model=model, **options, out=previous)
-                        left, right = (colour, previous.color) if job.left_to_right else (previous.color, colour)
+                        previous = warp(color, depth, decoder=decoder, model=model, **options, out=previous)
+                        left, right = (color, previous.color) if job.left_to_right else (previous.color, color)
                 except ValueError as error:
                     raise ConvertError(f"{job.colour.describe(i)}: {error}") from None
                 for part, picture in zip(parts, _pack(left, right, job.layout, job.working[1])):
@@ -516,7 +516,7 @@ def _packets_in_order(job, parts):
     i-th packet's decoding time is the (i - D)-th timestamp: never after the packet's own, and
     increasing across the parts' boundaries as within them."""
     av = _media.av()
-    base, pts = job.colour.time_base, job.colour.pts
+    base, pts = job.color.time_base, job.color.pts
 
     def packets():
         for path in parts:
@@ -558,9 +558,9 @@ def _join_video(job, spec, temporary):
         if spec.stereo_mode:
             video.metadata["stereo_mode"] = spec.stereo_mode
         sources, copies = [], []
-        if job.colour.kind == "video":
-            colour = stack.enter_context(av.open(job.colour.path))
-            for stream in colour.streams:
+        if job.color.kind == "video":
+            color = stack.enter_context(av.open(job.color.path))
+            for stream in color.streams:
                 if stream.type in ("audio", "subtitle"):
                     copy = out.add_stream(template=stream)
                     copy.metadata.update(stream.metadata)
@@ -569,7 +569,7 @@ def _join_video(job, spec, temporary):
         mapping = {s.index: c for s, c in zip(sources, copies)}
         streams = [_packets_in_order(job, parts)]
         if sources:
-            streams.append(p for p in colour.demux(sources) if p.size)
+            streams.append(p for p in color.demux(sources) if p.size)
         for packet in heapq.merge(*streams, key=_time_of):
             packet.stream = mapping.get(packet.stream_index, video) if packet.stream.type != "video" else video
             out.mux(packet)
@@ -635,7 +635,7 @@ def _preflight(job):
     subtitle streams once before any work, so that a stream the container cannot carry (FLAC in
     .mp4, say) fails at once and costs nothing. (No video encoder is opened here: an x264 instance
     opened and dropped before the segments' own made their bitstreams vary from run to run.)"""
-    if job.colour.kind != "video":
+    if job.color.kind != "video":
         return
     av = _media.av()
     for spec in job.outputs:
@@ -643,8 +643,8 @@ def _preflight(job):
             continue
         probe = os.path.join(job.parts, f".preflight{spec.extension}")
         try:
-            with av.open(job.colour.path) as colour:
-                copied = [s for s in colour.streams if s.type in ("audio", "subtitle")]
+            with av.open(job.color.path) as color:
+                copied = [s for s in color.streams if s.type in ("audio", "subtitle")]
                 if not copied:
                     return
                 with av.open(probe, "w") as out:
@@ -758,7 +758,7 @@ def convert(color, depth, out, *, layout="sbsl", suffix=False, codec=None, pixel
         raise ConvertError(str(error)) from None
     keep = resume or segment_frames is not None
     _prepare_parts(job, resume)
-    total = job.colour.count
+    total = job.color.count
     bar = None
     try:
         _preflight(job)
@@ -802,7 +802,7 @@ def convert(color, depth, out, *, layout="sbsl", suffix=False, codec=None, pixel
 
 def _check_camera(job):
     try:
-        decoder, model = _camera(job, job.colour.width)
+        decoder, model = _camera(job, job.color.width)
         from . import warp
         probe = np.zeros((2, 2), np.float32)
         warp(probe, probe + (1.0 if job.decoder[0] not in ("disparity",) else 0.0), decoder=decoder, model=model,

@@ -29,9 +29,9 @@ def clip(tmp_path_factory):
     """A colour video (x264, with FLAC audio), its colour as lossless RGB (FFV1), and its depth in
     millimetres (FFV1 16-bit grey)."""
     folder = tmp_path_factory.mktemp("clip")
-    colours = [media.texture(W, H, k) for k in range(N)]
-    media.write_video(folder / "colour.mkv", colours, "yuv420p", codec="libx264", audio=True)
-    media.write_video(folder / "rgb.mkv", colours, "bgr0")
+    colors = [media.texture(W, H, k) for k in range(N)]
+    media.write_video(folder / "colour.mkv", colors, "yuv420p", codec="libx264", audio=True)
+    media.write_video(folder / "rgb.mkv", colors, "bgr0")
     media.write_video(folder / "depth.mkv", [media.depth_codes(W, H, k) for k in range(N)], "gray16le",
                       source_format="gray16le")
     return folder
@@ -41,10 +41,10 @@ def listing(folder):
     return sorted(str(p.relative_to(folder)) for p in pathlib.Path(folder).rglob("*"))
 
 
-def warp_pair_of(colour, depth_mm):
+def warp_pair_of(color, depth_mm):
     decoder = reproject.Decoder()
-    model = reproject.StereoCamera(0.03, 4.0).parallax(colour.shape[1], "centre-to-right")
-    rgba = np.dstack([colour, np.full(colour.shape[:2], 255, np.uint8)])
+    model = reproject.StereoCamera(0.03, 4.0).parallax(color.shape[1], "centre-to-right")
+    rgba = np.dstack([color, np.full(color.shape[:2], 255, np.uint8)])
     pair = reproject.warp_pair(rgba, depth_mm.astype(np.float32) * np.float32(0.001), decoder=decoder, model=model)
     return pair.left.color[..., :3], pair.right.color[..., :3]
 
@@ -57,12 +57,12 @@ def test_every_frame_is_the_librarys_pair_of_the_decoded_inputs(clip, tmp_path):
     assert convert(clip / "rgb.mkv", clip / "depth.mkv", out, codec="ffv1", segment_frames=6,
                    progress=lambda done, total: calls.append((done, total)), **CAMERA) == [str(out)]
     assert calls == [(k, N) for k in range(1, N + 1)]
-    colours = media.decoded(clip / "rgb.mkv", "rgb24")
+    colors = media.decoded(clip / "rgb.mkv", "rgb24")
     depths = media.decoded(clip / "depth.mkv", "gray16le")
     frames = media.decoded(out, "rgb24")
     assert len(frames) == N
-    for (_, colour), (_, depth), (_, sbs) in zip(colours, depths, frames):
-        left, right = warp_pair_of(colour, depth)
+    for (_, color), (_, depth), (_, sbs) in zip(colors, depths, frames):
+        left, right = warp_pair_of(color, depth)
         assert sbs.shape == (H, 2 * W, 3)
         assert np.array_equal(sbs[:, :W], left) and np.array_equal(sbs[:, W:], right)
     assert not any("reproject" in name for name in os.listdir(tmp_path))  # parts and temporaries gone
@@ -104,8 +104,8 @@ def test_image_sequences_in_and_out(clip, tmp_path):
     frames = tmp_path / "in"
     frames.mkdir()
     depths = media.decoded(clip / "depth.mkv", "gray16le")
-    for i, (_, colour) in enumerate(media.decoded(clip / "rgb.mkv", "rgb24")[:5]):
-        for name, array, fmt in ((f"c{i + 7:03d}.png", colour, "rgb24"), (f"d{i + 7:03d}.png", depths[i][1], "gray16le")):
+    for i, (_, color) in enumerate(media.decoded(clip / "rgb.mkv", "rgb24")[:5]):
+        for name, array, fmt in ((f"c{i + 7:03d}.png", color, "rgb24"), (f"d{i + 7:03d}.png", depths[i][1], "gray16le")):
             av.VideoFrame.from_ndarray(array, format=fmt).to_image().save(frames / name) if fmt == "rgb24" else \
                 _write_png16(frames / name, array)
     outputs = convert(frames / "c%03d.png", frames / "d%03d.png", tmp_path / "out" / "f%04d.png", layout="left",
@@ -113,10 +113,10 @@ def test_image_sequences_in_and_out(clip, tmp_path):
     assert outputs == [str(tmp_path / "out" / "f%04d.png")]
     assert sorted(os.listdir(tmp_path / "out")) == [f"f{i:04d}.png" for i in range(7, 12)]
     # right-to-left keeps the right eye (the source) and synthesises the left.
-    colour = media.decoded(clip / "rgb.mkv", "rgb24")[2][1]
+    color = media.decoded(clip / "rgb.mkv", "rgb24")[2][1]
     decoder = reproject.Decoder()
     model = reproject.StereoCamera(0.03, 4.0).parallax(W, "right-to-left")
-    rgba = np.dstack([colour, np.full((H, W), 255, np.uint8)])
+    rgba = np.dstack([color, np.full((H, W), 255, np.uint8)])
     expected = reproject.warp(rgba, depths[2][1].astype(np.float32) * np.float32(0.001), decoder=decoder, model=model)
     written = media.decoded(tmp_path / "out" / "f0009.png", "rgb24")[0][1]
     assert np.array_equal(written, expected.color[..., :3])
@@ -137,11 +137,11 @@ def test_exr_reader_reads_what_the_cli_writes(cli, tmp_path):
                     str(tmp_path / "pfm"), "--color-format", "pfm"], check=True, capture_output=True)
     from reproject import _exr
     depth = _exr.read(str(tmp_path / "centre_depth.exr"), "depth")
-    colour = _exr.read(str(tmp_path / "centre.exr"), "color")
+    color = _exr.read(str(tmp_path / "centre.exr"), "color")
     pfm_depth = pfm.read(tmp_path / "pfm" / "centre_depth.pfm")
-    assert depth.shape == (40, 64) and colour.shape == (3, 40, 64)
+    assert depth.shape == (40, 64) and color.shape == (3, 40, 64)
     assert np.array_equal(depth, pfm_depth.reshape(40, 64))
-    assert 0.0 < colour.min() and colour.max() <= 1.0
+    assert 0.0 < color.min() and color.max() <= 1.0
 
 
 # ---- Streams and timing ---------------------------------------------------------------------------
@@ -159,8 +159,8 @@ def test_audio_copied_packet_for_packet_and_timing_kept(clip, tmp_path):
 def test_variable_frame_rate_and_subtitles_kept(clip, tmp_path):
     gaps = [1, 1, 3, 1, 2, 5, 1, 1, 1, 2, 1, 4]  # ticks of 1/48 s: 48, 24, 16, 9.6 fps...
     pts = list(np.cumsum([0] + gaps))
-    colours = [media.texture(W, H, k) for k in range(len(pts))]
-    media.write_video(tmp_path / "vfr.mp4", colours, "yuv420p", codec="libx264", pts=pts,
+    colors = [media.texture(W, H, k) for k in range(len(pts))]
+    media.write_video(tmp_path / "vfr.mp4", colors, "yuv420p", codec="libx264", pts=pts,
                       time_base=fractions.Fraction(1, 48))
     media.write_video(tmp_path / "vfr_depth.mkv", [media.depth_codes(W, H, k) for k in range(len(pts))], "gray16le",
                       source_format="gray16le", pts=pts, time_base=fractions.Fraction(1, 48))
@@ -199,7 +199,7 @@ def _with_subtitles(video, out):
             target.mux(packet)
 
 
-def test_hdr_colour_metadata_and_ten_bit_samples_kept(tmp_path):
+def test_hdr_color_metadata_and_ten_bit_samples_kept(tmp_path):
     tags = {"color_primaries": "bt2020", "color_trc": "smpte2084", "colorspace": "bt2020nc", "color_range": "tv"}
     frames = [media.texture(W, H, k, bits=16) for k in range(4)]
     media.write_video(tmp_path / "hdr.mkv", frames, "yuv444p10le", source_format="rgb48le", options=tags)
@@ -262,8 +262,8 @@ def test_bad_input_is_named_and_leaves_nothing(clip, tmp_path):
     # A corrupt image in a sequence: its file and frame number.
     frames = tmp_path / "seq"
     frames.mkdir()
-    for i, (_, colour) in enumerate(media.decoded(clip / "rgb.mkv", "rgb24")[:4]):
-        av.VideoFrame.from_ndarray(colour, format="rgb24").to_image().save(frames / f"c{i}.png")
+    for i, (_, color) in enumerate(media.decoded(clip / "rgb.mkv", "rgb24")[:4]):
+        av.VideoFrame.from_ndarray(color, format="rgb24").to_image().save(frames / f"c{i}.png")
         _write_png16(frames / f"d{i}.png", media.decoded(clip / "depth.mkv", "gray16le")[i][1])
     (frames / "c2.png").write_bytes((frames / "c2.png").read_bytes()[:200])
     before = listing(tmp_path)

@@ -32,8 +32,8 @@ def clip(tmp_path_factory):
     return folder
 
 
-def command(clip, out, *extra, colour="rgb.mkv"):
-    return [sys.executable, "-m", "reproject", "convert", "--color", str(clip / colour), "--depth",
+def command(clip, out, *extra, color="rgb.mkv"):
+    return [sys.executable, "-m", "reproject", "convert", "--color", str(clip / color), "--depth",
             str(clip / "depth.mkv"), "--out", str(out), *CAMERA, "--threads", "1", *extra]
 
 
@@ -63,20 +63,20 @@ def decoded_frames(path):
 
 @pytest.mark.parametrize("codec", ["ffv1", "libx264"])
 def test_resume_after_sigkill_equals_an_uninterrupted_run(clip, tmp_path, codec):
-    colour = "rgb.mkv" if codec == "ffv1" else "colour.mp4"
+    color = "rgb.mkv" if codec == "ffv1" else "colour.mp4"
     whole = tmp_path / f"whole.mkv"
-    done = subprocess.run(command(clip, whole, "--codec", codec, "--segment-frames", "6", colour=colour),
+    done = subprocess.run(command(clip, whole, "--codec", codec, "--segment-frames", "6", color=color),
                           capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     out = tmp_path / "killed.mkv"
-    run = start(command(clip, out, "--codec", codec, "--segment-frames", "6", colour=colour))
+    run = start(command(clip, out, "--codec", codec, "--segment-frames", "6", color=color))
     assert wait_for(lambda: len(finished_parts(out)) >= 3)
     run.send_signal(signal.SIGKILL)
     run.wait()
     assert not out.exists()
     kept = finished_parts(out)
     assert 3 <= len(kept) < N // 6, kept
-    resumed = subprocess.run(command(clip, out, "--codec", codec, "--segment-frames", "6", "--resume", colour=colour),
+    resumed = subprocess.run(command(clip, out, "--codec", codec, "--segment-frames", "6", "--resume", color=color),
                              capture_output=True, text=True)
     assert resumed.returncode == 0, resumed.stderr
     if codec == "ffv1":
@@ -91,12 +91,12 @@ def test_resume_after_sigkill_equals_an_uninterrupted_run(clip, tmp_path, codec)
         assert media.frame_times(out) == media.frame_times(whole)
     assert not pathlib.Path(str(out) + ".reproject-parts").exists()
     # Parts of other settings are not taken for these.
-    again = start(command(clip, out, "--codec", codec, "--segment-frames", "6", colour=colour))
+    again = start(command(clip, out, "--codec", codec, "--segment-frames", "6", color=color))
     assert wait_for(lambda: len(finished_parts(out)) >= 1)
     again.send_signal(signal.SIGKILL)
     again.wait()
     other = subprocess.run(command(clip, out, "--codec", codec, "--segment-frames", "6", "--resume", "--layout",
-                                   "abl", colour=colour), capture_output=True, text=True)
+                                   "abl", color=color), capture_output=True, text=True)
     assert other.returncode == 1 and "holds the parts of another conversion" in other.stderr
 
 
@@ -185,8 +185,8 @@ def test_memory_does_not_grow_with_the_length(tmp_path):
     # 3000 frames of 320x180: accumulating the decoded frames alone (RGBA colour and float depth,
     # 460 KB a frame) would take 1.4 GB; the peak resident size must stay under 300 MB.
     width, height, count = 320, 180, 3000
-    colour, depth = media.texture(width, height, 0), media.depth_codes(width, height, 0)
-    media.write_video(tmp_path / "long.mkv", [colour] * count, "bgr0")
+    color, depth = media.texture(width, height, 0), media.depth_codes(width, height, 0)
+    media.write_video(tmp_path / "long.mkv", [color] * count, "bgr0")
     media.write_video(tmp_path / "long_depth.mkv", [depth] * count, "gray16le", source_format="gray16le")
     probe = ("import resource, subprocess, sys; subprocess.run(sys.argv[1:], check=True); "
              "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
