@@ -489,7 +489,8 @@ static void format_errors(void) {
    * value inside the enums' 0..255 that no constant has and for one beyond it (256 + 1 must not
    * wrap onto 1's name). */
   CHECK(strcmp(reproject_status_name(REPROJECT_CANCELLED), "cancelled") == 0, "status name");
-  CHECK(strcmp(reproject_status_name(REPROJECT_CANCELLED + 1), "unknown") == 0, "unknown status name");
+  CHECK(strcmp(reproject_status_name(REPROJECT_OUT_OF_MEMORY), "out_of_memory") == 0, "status name");
+  CHECK(strcmp(reproject_status_name(REPROJECT_OUT_OF_MEMORY + 1), "unknown") == 0, "unknown status name");
   CHECK(strcmp(reproject_status_name(-1), "unknown") == 0, "negative status name");
   CHECK(strcmp(reproject_status_name(256 + REPROJECT_NULL_POINTER), "unknown") == 0, "status name beyond 255");
   CHECK(strcmp(reproject_method_name(REPROJECT_METHOD_EXACT), "exact") == 0, "method name");
