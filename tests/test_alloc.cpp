@@ -40,8 +40,14 @@ void* counted_aligned(std::size_t size, std::align_val_t alignment) noexcept {
 // draws GCC's -Wmismatched-new-delete, although new and delete here are malloc and free.
 [[gnu::noinline]] void release(void* p) noexcept { std::free(p); }
 
+// The throwing forms may not return null: without exceptions (REPROJECT_EXCEPTIONS=OFF) the
+// process ends instead, as the standard library's own operator new does there.
 void* or_throw(void* p) {
+#if defined(__cpp_exceptions)
   if (p == nullptr) throw std::bad_alloc();
+#else
+  if (p == nullptr) std::abort();
+#endif
   return p;
 }
 
