@@ -212,8 +212,14 @@ def _video_settings(spec, codec, pixel_format, crf, tags, working, width, height
         raise ConvertError(f"crf is for libx264 and libx265, not {spec.codec} (lossless)")
     if spec.codec == "libx265":
         options["x265-params"] = "log-level=error"
-    if spec.codec == "libx264" and layout in _FRAME_PACKING:
-        options["x264-params"] = f"frame-packing={_FRAME_PACKING[layout]}"
+    if spec.codec == "libx264":
+        # cpu-independent: x264's macroblock-tree propagation in its C form. Its AVX-512 form reads
+        # memory it never wrote (picture widths that are not a multiple of 128 pixels), so the
+        # bitstream varied from run to run and a resumed output with it (docs/CLI.md "convert").
+        params = ["cpu-independent=1"]
+        if layout in _FRAME_PACKING:
+            params.append(f"frame-packing={_FRAME_PACKING[layout]}")
+        options["x264-params"] = ":".join(params)
     spec.tags = dict(tags) if _media.Family(pixel_format).kind == "yuv" else {
         k: v for k, v in tags.items() if k in ("color_primaries", "color_trc")}
     options.update(spec.tags)
@@ -484,7 +490,7 @@ def _segment(job, index, on_frame=None):
                         previous = warp(color, depth, decoder=decoder, model=model, **options, out=previous)
                         left, right = (color, previous.color) if job.left_to_right else (previous.color, color)
                 except ValueError as error:
-                    raise ConvertError(f"{job.colour.describe(i)}: {error}") from None
+                    raise ConvertError(f"{job.color.describe(i)}: {error}") from None
                 for part, picture in zip(parts, _pack(left, right, job.layout, job.working[1])):
                     part.write(picture, i)
                 if on_frame:
@@ -633,8 +639,7 @@ def _prepare_parts(job, resume):
 def _preflight(job):
     """Writes the header of each video output's container with the colour input's audio and
     subtitle streams once before any work, so that a stream the container cannot carry (FLAC in
-    .mp4, say) fails at once and costs nothing. (No video encoder is opened here: an x264 instance
-    opened and dropped before the segments' own made their bitstreams vary from run to run.)"""
+    .mp4, say) fails at once and costs nothing."""
     if job.color.kind != "video":
         return
     av = _media.av()
@@ -653,7 +658,7 @@ def _preflight(job):
                     out.start_encoding()
         except (av.AVError, ValueError) as error:
             raise ConvertError(f"output '{spec.path}' cannot carry the audio and subtitle streams of colour "
-                               f"'{job.colour.path}': {error}") from None
+                               f"'{job.color.path}': {error}") from None
         finally:
             with contextlib.suppress(OSError):
                 os.remove(probe)
