@@ -228,6 +228,7 @@ constexpr PixelFormat kPixelFormats[] = {
     {"rgba32f+float", ColorFormat::float32, DepthFormat::float32},  // the float baseline
     {"rgba8+unorm24_s8", ColorFormat::rgba8, DepthFormat::unorm24_s8},
     {"rgba8_srgb+float", ColorFormat::rgba8_srgb, DepthFormat::float32},
+    {"rgba8_srgb+unorm24_s8", ColorFormat::rgba8_srgb, DepthFormat::unorm24_s8},  // an engine's sRGB back buffer
     {"rgba16f+float", ColorFormat::rgba16f, DepthFormat::float32},
     {"rgba8+unorm16", ColorFormat::rgba8, DepthFormat::unorm16},
 };

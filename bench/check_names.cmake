@@ -19,7 +19,7 @@ list(LENGTH names count)
 set(method "(pair_)?(scanline|march16|single|secant|exact)/(${ARCHES})")
 # Engine-native frames: /<colour>+<depth> (rgba32f+float is the float baseline), and the band of a
 # frame's rows that stays in cache: /<colour>+<depth>/band:32.
-set(format "(rgba32f\\+float|rgba8\\+unorm24_s8|rgba8_srgb\\+float|rgba16f\\+float|rgba8\\+unorm16)(/band:32)?")
+set(format "(rgba32f\\+float|rgba8\\+unorm24_s8|rgba8_srgb\\+float|rgba8_srgb\\+unorm24_s8|rgba16f\\+float|rgba8\\+unorm16)(/band:32)?")
 foreach(name IN LISTS names)
   if(NOT name MATCHES "^${method}/[0-9]+x[0-9]+/threads:[12](/sep:(8|32|128)|/rgba|/grey|/near:fixed|/two_calls|/${format})?$"
      AND NOT name MATCHES "^roofline/[0-9]+x[0-9]+/threads:[12](/rgba|/grey|/${format})?$")
@@ -34,7 +34,8 @@ foreach(required
     exact/scalar/3840x2160/threads:1 single/scalar/1920x1080/threads:2/rgba
     pair_secant/scalar/1920x1080/threads:2 exact/scalar/1920x1080/threads:1/near:fixed
     roofline/1920x1080/threads:1/rgba32f+float roofline/1920x1080/threads:2/rgba8+unorm24_s8
-    roofline/1920x1080/threads:2/rgba8_srgb+float roofline/1920x1080/threads:2/rgba16f+float
+    roofline/1920x1080/threads:2/rgba8_srgb+float roofline/1920x1080/threads:2/rgba8_srgb+unorm24_s8
+    roofline/1920x1080/threads:2/rgba16f+float
     roofline/1920x1080/threads:2/rgba8+unorm16 roofline/3840x2160/threads:1/rgba8+unorm24_s8
     roofline/3840x2160/threads:2/rgba32f+float roofline/1920x1080/threads:2/rgba8+unorm24_s8/band:32
     roofline/1920x1080/threads:1/rgba32f+float/band:32)

@@ -37,8 +37,8 @@ FLAT_METHODS = ["march16", "single", "secant", "exact"]  # targets: flat in reso
 FLAT_TOLERANCE = 0.15
 # Engine-native frames (`/<colour>+<depth>`, 1080p and 4K, colour output only), with their bytes per
 # pixel (colour in + depth in + colour out); the first is the float baseline the others are compared with.
-FORMATS = [("rgba32f+float", 36), ("rgba8+unorm24_s8", 12), ("rgba8_srgb+float", 12), ("rgba16f+float", 20),
-           ("rgba8+unorm16", 10)]
+FORMATS = [("rgba32f+float", 36), ("rgba8+unorm24_s8", 12), ("rgba8_srgb+float", 12), ("rgba8_srgb+unorm24_s8", 12),
+           ("rgba16f+float", 20), ("rgba8+unorm16", 10)]
 FORMAT_SIZES = [FULL_HD, "3840x2160"]
 FLOAT_FORMAT = FORMATS[0][0]
 PACKED_FORMAT = "rgba8+unorm24_s8"  # the targets: an engine's RGBA8 back buffer and D24S8 depth
