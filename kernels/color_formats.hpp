@@ -15,16 +15,20 @@ namespace reproject::detail {
 
 // sRGB tables, built once (color_formats.cpp). Encoding a linear value looks up its bucket by
 // the float's top bits (kSrgbBucketShift): each bucket holds at most one rounding threshold, so
-// the byte is the bucket's first byte, plus one at or beyond that threshold.
+// the byte is the bucket's first byte, plus one at or beyond that threshold. One word per bucket
+// holds both (one load, one gather in the SIMD twin): the byte above kSrgbStepBits, and below it
+// the threshold's low 16 bits (a positive float in the bucket orders as those bits do), or
+// kSrgbNoStep when the next byte's threshold lies past the bucket.
 constexpr int kSrgbBucketShift = 16;
 constexpr std::uint32_t kSrgbFirstBucket = 0x391fu;  // bits >> 16 of the first threshold (~1.5e-4)
 constexpr std::uint32_t kSrgbLastBucket = 0x3f80u;   // bits >> 16 of 1.0f
 constexpr int kSrgbBuckets = static_cast<int>(kSrgbLastBucket - kSrgbFirstBucket + 1);
 struct SrgbTables {
   float to_linear[256];              // the exact linear value of each byte, rounded to float
-  std::int32_t bucket_byte[kSrgbBuckets];  // the byte of the bucket's lowest float
-  float bucket_next[kSrgbBuckets];   // the smallest float of the next byte (may lie past the bucket)
+  std::int32_t bucket[kSrgbBuckets];  // byte << kSrgbStepBits | the next byte's step (see above)
 };
+constexpr int kSrgbStepBits = 17;
+constexpr std::int32_t kSrgbNoStep = 1 << 16;  // above every 16-bit low part: never reached
 const SrgbTables& srgb_tables();
 
 namespace {  // one copy per translation unit (kernels/fma.hpp)
@@ -34,8 +38,10 @@ inline std::uint8_t srgb_encode(const SrgbTables& tables, float linear) noexcept
   const float lowest = float_of_bits(kSrgbFirstBucket << kSrgbBucketShift);
   float l = linear > lowest ? linear : lowest;  // NaN too
   l = l < 1.0f ? l : 1.0f;
-  const int bucket = static_cast<int>((bits_of_float(l) >> kSrgbBucketShift) - kSrgbFirstBucket);
-  return static_cast<std::uint8_t>(tables.bucket_byte[bucket] + (l >= tables.bucket_next[bucket] ? 1 : 0));
+  const std::uint32_t bits = bits_of_float(l);
+  const std::int32_t word = tables.bucket[(bits >> kSrgbBucketShift) - kSrgbFirstBucket];
+  const std::int32_t low = static_cast<std::int32_t>(bits & 0xffffu);
+  return static_cast<std::uint8_t>((word >> kSrgbStepBits) + (low >= (word & ((1 << kSrgbStepBits) - 1)) ? 1 : 0));
 }
 
 // A row's colour in its format: writes target pixel t as source columns j0 and j1 blended at

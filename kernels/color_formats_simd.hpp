@@ -37,10 +37,12 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
       const F lowest(float_of_bits(kSrgbFirstBucket << kSrgbBucketShift));
       F l = xsimd::select(linear > lowest, linear, lowest);
       l = xsimd::select(l < F(1.0f), l, F(1.0f));
-      const I bucket = (bits_of<Arch>(l) >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket));
-      const I first = bits_of<Arch>(gather<Arch>(reinterpret_cast<const float*>(f.srgb->bucket_byte), bucket));
-      const F next = gather<Arch>(f.srgb->bucket_next, bucket);
-      out = out | ((first + xsimd::to_int(xsimd::select(l >= next, F(1.0f), F(0.0f)))) << (8 * c));
+      const I bits = bits_of<Arch>(l);
+      const I word = bits_of<Arch>(gather<Arch>(reinterpret_cast<const float*>(f.srgb->bucket),
+                                                (bits >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket))));
+      // One more at or beyond the step: (low - step) >> 31 is -1 below it, 0 at or beyond.
+      const I below = ((bits & I(0xffff)) - (word & I((1 << kSrgbStepBits) - 1))) >> 31;
+      out = out | (((word >> kSrgbStepBits) + I(1) + below) << (8 * c));
     };
     channel(std::integral_constant<int, 0>{});
     channel(std::integral_constant<int, 1>{});

@@ -272,6 +272,31 @@ TEST(PixelFormats, SrgbAgainstDoublePrecision) {
   EXPECT_LT(differ, blends / 1000);
 }
 
+// The encoder's table words (a byte and the next byte's threshold in one word per bucket) decide
+// exactly at each rounding threshold: the first float of every byte, found here by bisection on
+// the double-precision curve, encodes to that byte and the float below it to the byte before;
+// so do the first and last floats of every bucket of the table. With the encoder monotonic
+// between them, that is every float.
+TEST(PixelFormats, SrgbAtEveryRoundingThreshold) {
+  std::uint32_t below = float_bits(0.0f);
+  for (int k = 1; k < 256; ++k) {
+    std::uint32_t low = below, high = float_bits(1.0f);  // srgb_byte_double(low) < k <= ...(high)
+    while (high - low > 1) {
+      const std::uint32_t mid = low + (high - low) / 2;
+      (srgb_byte_double(bits_float(mid)) >= k ? high : low) = mid;
+    }
+    ASSERT_EQ(formats::linear_to_srgb(bits_float(high)), k) << bits_float(high);
+    ASSERT_EQ(formats::linear_to_srgb(bits_float(low)), k - 1) << bits_float(low);
+    below = high;
+  }
+  for (std::uint32_t top = float_bits(1e-5f) >> 16; top <= float_bits(1.0f) >> 16; ++top) {
+    for (const std::uint32_t b : {top << 16, (top << 16) | 0xffffu}) {
+      if (b > float_bits(1.0f)) continue;
+      ASSERT_EQ(formats::linear_to_srgb(bits_float(b)), srgb_byte_double(bits_float(b))) << bits_float(b);
+    }
+  }
+}
+
 // ---- frames in every format ---------------------------------------------------------------------
 
 struct FormatCase {
