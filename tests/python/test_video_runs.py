@@ -190,6 +190,11 @@ def test_a_local_cluster_gives_the_one_process_output(clip, tmp_path):
 # ---- Bounded memory ---------------------------------------------------------------------------------
 
 def test_memory_does_not_grow_with_the_length(tmp_path):
+    if "libasan" in os.environ.get("LD_PRELOAD", ""):
+        # Under AddressSanitizer (tests/python/CMakeLists.txt preloads its runtime) the peak RSS is
+        # mostly ASan's: freed memory held in its quarantine (256 MB by default) and its shadow
+        # (499 MB measured in CI's sanitizer build). The release build's run checks the bound.
+        pytest.skip("peak RSS under AddressSanitizer measures its quarantine, not the converter")
     # 3000 frames of 320x180: accumulating the decoded frames alone (RGBA colour and float depth,
     # 460 KB a frame) would take 1.4 GB; the peak resident size must stay under 300 MB.
     width, height, count = 320, 180, 3000
