@@ -110,6 +110,11 @@ template <class Arch> constexpr bool has_permute();
 template <class Arch>
 float first_lane(const xsimd::batch<float, Arch>& v);
 
+// The lanes [first, v[0], ..., v[L-2]], bit for bit: v moved up one lane (its last lane
+// dropped) and `first` put into lane 0. Every set has it (a byte shift on SSE4.1).
+template <class Arch>
+xsimd::batch<float, Arch> shift_in_first(const xsimd::batch<float, Arch>& v, float first);
+
 // A column set's lanes, prepared once for the fetch that reads them (defined by each family:
 // the index, plus what its permute instruction needs).
 template <class Arch> struct LaneIndex;

@@ -16,8 +16,11 @@ namespace {  // one copy per arch TU (kernels/fma.hpp)
 // rgba8 / rgba8_srgb: L pixels' words blended (scalar twin: ColorRow::write). The bytes of rgba8
 // (and rgba8_srgb's alpha) in fixed point, every channel of every pixel at once (the arch layer's
 // blend_rgba8_q15: the same integers as blend_u8_q15, so every set stores the same bytes);
-// rgba8_srgb's R, G, B in linear light through the sRGB tables.
-template <class Arch, class Fma, bool Srgb>
+// rgba8_srgb's R, G, B in linear light through the sRGB tables. Consecutive: the caller's words
+// are consecutive pixels, w1's lane i being w0's lane i + 1 (the column fetch's consecutive mode),
+// so w0's linear values are w1's moved up one lane with w0's lane 0 looked up alone: one gather
+// per channel saved, the same values.
+template <class Arch, class Fma, bool Srgb, bool Consecutive = false>
 REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0,
                                                                  const IntLanes<Arch>& w1,
                                                                  const xsimd::batch<float, Arch>& frac) {
@@ -30,8 +33,14 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
     I out = fixed & I(static_cast<std::int32_t>(0xff000000u));  // alpha as rgba8
     auto channel = [&](auto c_tag) {
       constexpr int c = decltype(c_tag)::value;
-      const F l0 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w0));
       const F l1 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w1));
+      F l0;
+      if constexpr (Consecutive) {
+        const std::uint32_t lane0 = bits_of_float(first_lane<Arch>(float_bits<Arch>(w0)));
+        l0 = shift_in_first<Arch>(l1, f.srgb->to_linear[(lane0 >> (8 * c)) & 0xffu]);
+      } else {
+        l0 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w0));
+      }
       const F linear = vmadd<Fma>(frac, l1 - l0, l0);
       // srgb_encode: the bucket's byte, plus one at or beyond its threshold.
       const F lowest(float_of_bits(kSrgbFirstBucket << kSrgbBucketShift));

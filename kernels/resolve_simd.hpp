@@ -161,7 +161,9 @@ REPROJECT_ALWAYS_INLINE inline void write_color(const RowContext<Arch>& row, con
   } else if constexpr (Path == ColorPath::rgba8 || Path == ColorPath::rgba8_srgb) {
     F c0, c1;
     fetch(reinterpret_cast<const float*>(row.source[0]), c0, c1);
-    const I blended = blend_rgba8<Arch, Fma, Path == ColorPath::rgba8_srgb>(row.f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac);
+    // (first_lane, used for consecutive words, is where the consecutive mode is: sets with permutes.)
+    constexpr bool consecutive = Fetch::mode == ColumnFetch<Arch>::Mode::consecutive && has_permute<Arch>();
+    const I blended = blend_rgba8<Arch, Fma, Path == ColorPath::rgba8_srgb, consecutive>(row.f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac);
     store_lanes<Arch>(reinterpret_cast<float*>(row.target[0] + out_byte), float_bits<Arch>(blended), write, black, masked,
                       any_black);
   } else {

@@ -150,6 +150,11 @@ float first_lane(const xsimd::batch<float, Arch>& v) {
   return vgetq_lane_f32(v, 0);
 }
 
+template <class Arch>
+xsimd::batch<float, Arch> shift_in_first(const xsimd::batch<float, Arch>& v, float first) {
+  return vextq_f32(vdupq_n_f32(first), v, 3);  // lane 3 of first's, then v's 0..2
+}
+
 // A column set's lanes as each fetch mode takes them (kernels/simd.hpp, ColumnFetch): the lane
 // indices for gathers, and for both permutes the byte indices 4 index + 0..3 of the table look-up
 // (one register: index < 4; two: index < 8). Set once per column set.

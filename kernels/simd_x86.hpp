@@ -140,6 +140,10 @@ float first_lane(const xsimd::batch<float, Arch>& v) {
   return X86Set<Arch>::first_lane(v);
 }
 template <class Arch>
+xsimd::batch<float, Arch> shift_in_first(const xsimd::batch<float, Arch>& v, float first) {
+  return X86Set<Arch>::shift_in_first(v, _mm_set_ss(first));
+}
+template <class Arch>
 struct LaneIndex : X86Set<Arch>::LaneIndex {};
 template <class Arch>
 void index_for_gather(LaneIndex<Arch>& lanes, const xsimd::batch<std::int32_t, Arch>& index) {

@@ -46,6 +46,10 @@ struct X86Set<xsimd::fma3<xsimd::avx2>> {
     return _mm256_shuffle_epi8(w, _mm256_broadcastsi128_si256(pick));
   }
   static float first_lane(const F& v) { return _mm256_cvtss_f32(v); }
+  static F shift_in_first(const F& v, __m128 first) {
+    const F up = _mm256_permutevar8x32_ps(v, _mm256_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6));
+    return _mm256_blend_ps(up, _mm256_castps128_ps256(first), 1);
+  }
   static I blend_rgba8_q15(const I& c0, const I& c1, const I& weight) {  // as SSE4.1's, per 128-bit lane
     const __m256i zero = _mm256_setzero_si256();
     const __m256i first = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 1, 0, 1, 0, 1, 0, 1, 4, 5, 4, 5, 4, 5, 4, 5));

@@ -45,6 +45,10 @@ struct X86Set<xsimd::avx512bw> {
     return _mm512_shuffle_epi8(w, _mm512_broadcast_i32x4(pick));
   }
   static float first_lane(const F& v) { return _mm512_cvtss_f32(v); }
+  static F shift_in_first(const F& v, __m128 first) {  // lane 15 of `first`'s broadcast, then v's 0..14
+    const __m512i low = _mm512_castps_si512(_mm512_broadcastss_ps(first));
+    return _mm512_castsi512_ps(_mm512_alignr_epi32(_mm512_castps_si512(v), low, 15));
+  }
   static I blend_rgba8_q15(const I& c0, const I& c1, const I& weight) {  // as SSE4.1's, per 128-bit lane
     const __m512i zero = _mm512_setzero_si512();
     const __m512i first = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 1, 0, 1, 0, 1, 0, 1, 4, 5, 4, 5, 4, 5, 4, 5));

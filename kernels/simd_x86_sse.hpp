@@ -61,6 +61,9 @@ struct X86Set<xsimd::sse4_1> {
     const __m128i r1 = _mm_add_epi16(a1, _mm_mulhrs_epi16(d1, _mm_shuffle_epi8(weight, second)));
     return _mm_packus_epi16(r0, r1);
   }
+  static F shift_in_first(const F& v, __m128 first) {  // bytes 12..15 of `first`'s broadcast, then v's 0..11
+    return _mm_castsi128_ps(_mm_alignr_epi8(_mm_castps_si128(v), _mm_castps_si128(_mm_shuffle_ps(first, first, 0)), 12));
+  }
   static void store_first_lanes(const F& value, float* out, int count) {  // read, merge, write
     const I lanes = _mm_setr_epi32(0, 1, 2, 3);
     const __m128 write = _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_set1_epi32(count), lanes));

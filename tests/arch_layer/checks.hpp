@@ -28,6 +28,7 @@ ArchLayerChecks make_arch_layer_checks() {
   c.index_for_gather = check_index_for_gather<Arch>;
   c.lane_extreme = check_lane_extreme<Arch>;
   c.first_lane = check_first_lane<Arch>;
+  c.shift_in_first = check_shift_in_first<Arch>;
   c.permute = check_permutes<Arch, false>;
   c.permute_two_registers = check_permutes<Arch, true>;
   c.store_first_lanes = check_store_first_lanes<Arch>;

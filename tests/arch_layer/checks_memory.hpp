@@ -170,6 +170,28 @@ Outcome check_first_lane() {
   }
 }
 
+// Every set: lane 0 takes `first`, lane i takes v's lane i - 1, all bits kept (NaN payloads too).
+template <class Arch>
+Outcome check_shift_in_first() {
+  Outcome out;
+  using V = Vec<Arch>;
+  std::uint32_t lanes[V::L], got[V::L];
+  for (std::size_t k = 0; k < special_values().size(); ++k) {
+    for (int i = 0; i < V::L; ++i) lanes[i] = special_at(k + 5 * static_cast<std::size_t>(i) + 1);
+    const std::uint32_t first = special_at(k);
+    V::bits(detail::shift_in_first<Arch>(V::floats(lanes), value_of_bits(first)), got);
+    for (int i = 0; i < V::L; ++i) {
+      const std::uint32_t want = i == 0 ? first : lanes[i - 1];
+      ++out.lanes;
+      if (got[i] != want) {
+        out.fail("shift_in_first(lane 0 " + show(first) + "): lane " + std::to_string(i) + " is " + show(got[i]) +
+                 ", not " + show(want));
+      }
+    }
+  }
+  return out;
+}
+
 template <class Arch, bool TwoRegisters>
 Outcome check_permutes() {
   if constexpr (!detail::has_permute<Arch>()) {
