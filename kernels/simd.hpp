@@ -15,8 +15,12 @@
 #include "kernels/kernel_table.hpp"
 
 // Forces inlining where the compiler's heuristics keep a per-vector helper out of line in the
-// row loops (GCC and Clang; MSVC would spell it __forceinline).
+// row loops (GCC and Clang; MSVC spells it __forceinline).
+#if defined(_MSC_VER) && !defined(__clang__)
+#define REPROJECT_ALWAYS_INLINE __forceinline
+#else
 #define REPROJECT_ALWAYS_INLINE __attribute__((always_inline))
+#endif
 
 // The arch layer of the processor family this translation unit is compiled for.
 #if defined(__aarch64__) || defined(_M_ARM64)

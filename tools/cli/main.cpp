@@ -9,8 +9,10 @@
 #include <cstring>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "cli.hpp"
+#include "imageio/os.hpp"
 
 namespace {
 
@@ -31,8 +33,15 @@ const char kUsage[] =
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int main(int argc, char** system_argv) {
   using namespace reproject::cli;
+  // UTF-8 arguments on every system (Windows passes the ANSI code page's bytes).
+  std::vector<std::string> arguments = reproject::io::os::arguments(argc, system_argv);
+  std::vector<char*> argv_utf8;
+  for (std::string& argument : arguments) argv_utf8.push_back(argument.data());
+  argv_utf8.push_back(nullptr);
+  argc = static_cast<int>(arguments.size());
+  char** argv = argv_utf8.data();
   if (argc < 2) {
     std::fputs(kUsage, stderr);
     return kExitUsage;
