@@ -13,6 +13,9 @@
 #include <gtest/gtest.h>
 #include <csignal>
 #if defined(_WIN32)
+#ifndef NOMINMAX
+#define NOMINMAX  // windows.h would define min and max as macros
+#endif
 #include <windows.h>  // VirtualAlloc / VirtualProtect: the guard pages
 #else
 #include <signal.h>

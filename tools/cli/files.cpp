@@ -1,7 +1,13 @@
 // Reading inputs and writing outputs all or nothing (see OutputSet in cli.hpp). The formats are
 // imageio's; this file only normalises colour and stages the writes.
 #if defined(_WIN32)
+#ifndef NOMINMAX
+#define NOMINMAX  // windows.h would define min and max as macros
+#endif
 #include <windows.h>
+// windows.h defines near and far as empty macros (16-bit pointers): names of ours.
+#undef near
+#undef far
 #endif
 
 #include <atomic>
@@ -268,14 +274,10 @@ void OutputSet::expect(const std::string& flag, const std::string& path) {
   // work is done, and the name stays ours until commit() or the destructor.
   // Tracked before it exists, as in make_directory (the name carries our pid).
   const std::string temporary = sibling(path, "tmp", staged_.size());
-  io::track_temporary(temporary);
   bool exists = false;
   std::string error;
-  std::FILE* reserved = io::os::create_new(temporary, &exists, &error);
-  if (reserved == nullptr) {
-    io::untrack_temporary(temporary);
-    fail(kExitOutput, "cannot write '" + path + "': " + error);
-  }
+  std::FILE* reserved = io::create_temporary(temporary, &exists, &error);
+  if (reserved == nullptr) fail(kExitOutput, "cannot write '" + path + "': " + error);
   std::fclose(reserved);
   staged_.push_back({temporary, path, false});
 }

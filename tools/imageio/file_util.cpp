@@ -9,6 +9,9 @@
 #include <filesystem>
 #include <system_error>
 #include <utility>
+#if defined(_WIN32)
+#include <mutex>
+#endif
 
 #include "imageio/os.hpp"
 
@@ -60,7 +63,37 @@ void untrack_temporary(const std::string& path) {
   }
 }
 
+#if defined(_WIN32)
+namespace {
+std::mutex creation;    // create_temporary against the clean-up
+bool cleaned = false;   // remove_temporary_files has run: create nothing more
+}  // namespace
+#endif
+
+std::FILE* create_temporary(const std::string& path, bool* exists, std::string* error) {
+#if defined(_WIN32)
+  std::lock_guard<std::mutex> hold(creation);
+  if (cleaned) {
+    *exists = false;
+    *error = "the program is being interrupted";
+    return nullptr;
+  }
+#endif
+  // Tracked before it exists: a signal between the creation and the tracking would otherwise
+  // leave the file behind (CI once caught one). The name carries our pid, so what the handler
+  // might unlink in that window is never another process's file.
+  track_temporary(path);
+  std::FILE* file = os::create_new(path, exists, error);
+  if (file == nullptr) untrack_temporary(path);
+  return file;
+}
+
 void remove_temporary_files() noexcept {
+#if defined(_WIN32)
+  // Another thread than the program's (the console handler): it waits for a creation under way.
+  std::lock_guard<std::mutex> hold(creation);
+  cleaned = true;
+#endif
   // Files first; then directories (rmdir fails on a file and on a non-empty directory), newest
   // first, so that a nest of directories created one inside the other goes from the inside.
   for (std::atomic<char*>& slot : temporary_slots) {
@@ -152,17 +185,12 @@ IoStatus ReplacingFile::create(const std::string& destination) {
   std::string error = "unknown error";
   for (int attempt = 0; attempt < 8; ++attempt) {
     std::string name = temporary_name(destination, attempt);
-    // Tracked before it exists: a signal between the creation and the tracking would otherwise
-    // leave the file behind (CI once caught one). The name carries our pid, so what the handler
-    // might unlink in that window is never another process's file.
-    track_temporary(name);
     bool exists = false;
-    file_ = os::create_new(name, &exists, &error);
+    file_ = create_temporary(name, &exists, &error);
     if (file_ != nullptr) {
       temporary_ = std::move(name);
       return {};
     }
-    untrack_temporary(name);
     if (!exists) break;
   }
   return failure(IoError::write_failed, "cannot create a temporary file next to " + quote_path(destination) + ": " + error);

@@ -7,6 +7,9 @@
 #if defined(_WIN32)
 #include <fcntl.h>
 #include <io.h>
+#ifndef NOMINMAX
+#define NOMINMAX  // windows.h would define min and max as macros
+#endif
 #include <windows.h>
 // After windows.h:
 #include <shellapi.h>
@@ -200,16 +203,12 @@ std::filesystem::path to_path(const std::string& utf8) { return std::filesystem:
 std::string from_path(const std::filesystem::path& path) { return narrow(path.wstring()); }
 
 Kind kind_of(const std::string& path) {
-  const DWORD attributes = GetFileAttributesW(wide(path).c_str());
-  if (attributes == INVALID_FILE_ATTRIBUTES) {
-    // Devices (NUL, CON) and pipes have no attributes to read: ask their handles.
-    const HANDLE handle = open_to_inspect(path);
-    if (handle == INVALID_HANDLE_VALUE) return Kind::missing;
-    const Kind kind = kind_of_handle(handle);
-    CloseHandle(handle);
-    return kind;
-  }
-  return (attributes & FILE_ATTRIBUTE_DIRECTORY) != 0 ? Kind::directory : Kind::regular;
+  // Through a handle, so that devices (NUL, CON) and pipes are seen as such.
+  const HANDLE handle = open_to_inspect(path);
+  if (handle == INVALID_HANDLE_VALUE) return Kind::missing;
+  const Kind kind = kind_of_handle(handle);
+  CloseHandle(handle);
+  return kind;
 }
 
 long process_id() { return static_cast<long>(GetCurrentProcessId()); }
