@@ -86,8 +86,8 @@ int channels_of(Layout layout) { return layout == Layout::grey ? 1 : 4; }
 
 // Bytes one eye must touch per pixel: read depth + colour, write colour + depth + status.
 std::int64_t bytes_per_pixel(Layout layout) {
-  const std::int64_t colour = 4 * channels_of(layout);
-  return 4 + colour + colour + 4 + 1;
+  const std::int64_t color = 4 * channels_of(layout);
+  return 4 + color + color + 4 + 1;
 }
 
 const rs::Scene& the_scene() {
@@ -560,7 +560,7 @@ void bm_roofline(benchmark::State& state, Size size, int threads, Layout layout)
   const Source& source = source_frame(size, layout);
   Outputs& out = output_frame(size, layout, 0);
   const int planes = layout == Layout::interleaved_rgba ? 1 : channels_of(layout);
-  const std::size_t colour_row_bytes =
+  const std::size_t color_row_bytes =
       static_cast<std::size_t>(size.width) * (layout == Layout::interleaved_rgba ? 4 : 1) * sizeof(float);
   const std::size_t depth_row_bytes = static_cast<std::size_t>(size.width) * sizeof(float);
 
@@ -568,7 +568,7 @@ void bm_roofline(benchmark::State& state, Size size, int threads, Layout layout)
     for (int y = begin; y < end; ++y) {
       for (int c = 0; c < planes; ++c) {
         std::memcpy(out.color.plane_data(c) + y * out.color.stride(), source.color.plane_data(c) + y * source.color.stride(),
-                    colour_row_bytes);
+                    color_row_bytes);
       }
       std::memcpy(out.depth.plane_data(0) + y * out.depth.stride(), source.depth.plane_data(0) + y * source.depth.stride(),
                   depth_row_bytes);
@@ -607,18 +607,18 @@ void bm_roofline_format(benchmark::State& state, Size size, int threads, const P
   const int first = band_rows > 0 ? band_first_row(size.height, band_rows) : 0;
   const ColorView& in = frame.source.color;
   const MutableColorView& out = frame.target.color;
-  const bool float_colour = format->color == ColorFormat::float32;
+  const bool float_color = format->color == ColorFormat::float32;
   const bool float_depth = format->depth == DepthFormat::float32;
-  const std::size_t colour_row_bytes = static_cast<std::size_t>(size.width) * color_bytes(*format);
+  const std::size_t color_row_bytes = static_cast<std::size_t>(size.width) * color_bytes(*format);
   const std::size_t depth_row_bytes = static_cast<std::size_t>(size.width) * depth_bytes(*format);
 
   const std::function<void(int, int)> rows = [&](int begin, int end) {
     std::uint64_t sum = 0;
     for (int y = first + begin; y < first + end; ++y) {
-      if (float_colour) {
-        std::memcpy(out.plane[0].row(y), in.plane[0].row(y), colour_row_bytes);
+      if (float_color) {
+        std::memcpy(out.plane[0].row(y), in.plane[0].row(y), color_row_bytes);
       } else {
-        std::memcpy(out.pixels.row(y), in.pixels.row(y), colour_row_bytes);
+        std::memcpy(out.pixels.row(y), in.pixels.row(y), color_row_bytes);
       }
       const void* depth = float_depth ? static_cast<const void*>(frame.source.depth.row(y))
                                       : static_cast<const void*>(frame.source.depth_buffer.row(y));

@@ -94,13 +94,13 @@ struct Buffer {
 
 // ---- formats ---------------------------------------------------------------------------------
 
-struct ColourCase {
+struct ColorCase {
   const char* name;
   ColorFormat format;
   ColorLayout layout;
   int channels, pixel_bytes;  // pixel_bytes: per plane
 };
-constexpr ColourCase kColours[] = {
+constexpr ColorCase kColors[] = {
     {"float32x1", ColorFormat::float32, ColorLayout::planar, 1, 4},
     {"float32x3", ColorFormat::float32, ColorLayout::planar, 3, 4},
     {"float32x4", ColorFormat::float32, ColorLayout::planar, 4, 4},
@@ -112,13 +112,13 @@ constexpr ColourCase kColours[] = {
 constexpr DepthFormat kDepths[] = {DepthFormat::float32, DepthFormat::unorm16, DepthFormat::unorm24_s8,
                                    DepthFormat::s8_unorm24, DepthFormat::rgba8_packed_linear};
 
-int planes_of(const ColourCase& c) { return c.layout == ColorLayout::planar ? c.channels : 1; }
+int planes_of(const ColorCase& c) { return c.layout == ColorLayout::planar ? c.channels : 1; }
 int depth_bytes(DepthFormat f) { return f == DepthFormat::float32 ? 4 : bytes_per_pixel(f); }
 std::ptrdiff_t row_bytes(int width, int pixel_bytes) { return std::ptrdiff_t{width} * pixel_bytes + kPadBytes; }
 
 // A colour view (ColorView or MutableColorView) over 1..4 float planes or one interleaved plane.
 template <class View, class Byte>
-View colour_view(const ColourCase& c, Byte* const* planes, int width, int height, std::ptrdiff_t stride) {
+View color_view(const ColorCase& c, Byte* const* planes, int width, int height, std::ptrdiff_t stride) {
   using Float = typename std::conditional<std::is_const<Byte>::value, const float, float>::type;
   if (c.format != ColorFormat::float32) return View::packed(c.format, planes[0], width, height, stride);
   if (c.layout == ColorLayout::interleaved_rgba)
@@ -134,13 +134,13 @@ View colour_view(const ColourCase& c, Byte* const* planes, int width, int height
 // One rendered view in one colour and depth format, read through `view` with `decoder`.
 // Not copyable in practice: `view` points into the vectors (moving them keeps their storage).
 struct Source {
-  std::vector<std::vector<std::uint8_t>> colour;  // planes
+  std::vector<std::vector<std::uint8_t>> color;  // planes
   std::vector<std::uint8_t> depth;
   SourceView view;
   DepthDecoder decoder;
 };
 
-void store_colour(const ColourCase& cc, const float rgba[4], std::uint8_t* const* planes) {
+void store_color(const ColorCase& cc, const float rgba[4], std::uint8_t* const* planes) {
   for (int c = 0; c < 4; ++c) {
     const auto unorm8 = static_cast<std::uint8_t>(formats::float_to_unorm(rgba[c], 8));
     const std::uint16_t half = formats::float_to_half(rgba[c]);
@@ -172,14 +172,14 @@ void store_depth(DepthFormat df, double z, float d, std::uint32_t stencil, float
   }
 }
 
-Source make_source(const rs::Scene& scene, const rs::View& v, const ColourCase& cc, DepthFormat df,
+Source make_source(const rs::Scene& scene, const rs::View& v, const ColorCase& cc, DepthFormat df,
                    DepthEncoding encoding) {
   const int w = v.width(), h = v.height();
   const std::ptrdiff_t cstride = row_bytes(w, cc.pixel_bytes), dstride = row_bytes(w, depth_bytes(df));
   const float near = static_cast<float>(scene.near_plane()), far = static_cast<float>(scene.far_plane());
   Source s;
   s.decoder = df == DepthFormat::rgba8_packed_linear ? DepthDecoder::linear() : scene.decoder(encoding);
-  s.colour.assign(planes_of(cc), std::vector<std::uint8_t>(static_cast<std::size_t>(cstride) * h, 0));
+  s.color.assign(planes_of(cc), std::vector<std::uint8_t>(static_cast<std::size_t>(cstride) * h, 0));
   s.depth.assign(static_cast<std::size_t>(dstride) * h, 0);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
@@ -188,16 +188,16 @@ Source make_source(const rs::Scene& scene, const rs::View& v, const ColourCase& 
       float rgba[4] = {0, 0, 0, object == 255 ? 0.0f : 0.25f + 0.25f * static_cast<float>(object % 4)};
       for (int c = 0; c < 3; ++c) rgba[c] = v.color.plane_data(c)[y * v.color.stride() + x];
       std::uint8_t* planes[4];
-      for (int p = 0; p < planes_of(cc); ++p) planes[p] = s.colour[p].data() + y * cstride + x * cc.pixel_bytes;
-      store_colour(cc, rgba, planes);
+      for (int p = 0; p < planes_of(cc); ++p) planes[p] = s.color[p].data() + y * cstride + x * cc.pixel_bytes;
+      store_color(cc, rgba, planes);
       const double z = v.depth.plane_data(0)[y * v.depth.stride() + x];
       const std::uint32_t stencil = static_cast<std::uint32_t>(x * 7 + y * 3) & 0xffu;
       store_depth(df, z, s.decoder.encode(z), stencil, near, far, s.depth.data() + y * dstride + x * depth_bytes(df));
     }
   }
   std::vector<const std::uint8_t*> planes;
-  for (const auto& p : s.colour) planes.push_back(p.data());
-  s.view.color = colour_view<ColorView>(cc, planes.data(), w, h, cstride);
+  for (const auto& p : s.color) planes.push_back(p.data());
+  s.view.color = color_view<ColorView>(cc, planes.data(), w, h, cstride);
   if (df == DepthFormat::float32)
     s.view.depth = FloatPlane{reinterpret_cast<const float*>(s.depth.data()), w, h, dstride / 4};
   else if (df == DepthFormat::rgba8_packed_linear)
@@ -282,11 +282,11 @@ bool parse_option_set(const std::string& name, OptionSet* s) {
 
 // Appends one eye's prefilled outputs to `buffers` and returns the view over them. `buffers` must
 // not reallocate before the call (run reserves).
-TargetView make_target(const ColourCase& cc, DepthFormat df, const OptionSet& set, int w, int h,
+TargetView make_target(const ColorCase& cc, DepthFormat df, const OptionSet& set, int w, int h,
                        const std::string& prefix, std::vector<Buffer>& buffers) {
   const std::ptrdiff_t cstride = row_bytes(w, cc.pixel_bytes), dstride = row_bytes(w, depth_bytes(df));
   const std::ptrdiff_t fstride = row_bytes(w, 4), sstride = row_bytes(w, 1);
-  const Kind colour_kind = cc.format == ColorFormat::float32 ? Kind::f32
+  const Kind color_kind = cc.format == ColorFormat::float32 ? Kind::f32
                            : cc.format == ColorFormat::rgba16f ? Kind::f16 : Kind::bytes;
   // An output's bytes; an unwanted one is null, with an empty buffer (hashed all the same).
   const auto add = [&](const std::string& name, Kind kind, std::ptrdiff_t stride, bool wanted) {
@@ -294,12 +294,12 @@ TargetView make_target(const ColourCase& cc, DepthFormat df, const OptionSet& se
     return wanted ? buffers.back().bytes.data() : nullptr;
   };
   std::uint8_t* planes[4];
-  for (int p = 0; p < planes_of(cc); ++p) planes[p] = add("colour" + std::to_string(p), colour_kind, cstride, true);
+  for (int p = 0; p < planes_of(cc); ++p) planes[p] = add("colour" + std::to_string(p), color_kind, cstride, true);
   std::uint8_t* depth = add("depth", df == DepthFormat::float32 ? Kind::f32 : Kind::bytes, dstride, set.depth_out);
   std::uint8_t* status = add("status", Kind::bytes, sstride, set.status_out);
   std::uint8_t* source_x = add("source_x", Kind::f32, fstride, set.source_x_out);
   TargetView t;
-  t.color = colour_view<MutableColorView>(cc, planes, w, h, cstride);
+  t.color = color_view<MutableColorView>(cc, planes, w, h, cstride);
   if (df == DepthFormat::float32)
     t.depth = MutableFloatPlane{reinterpret_cast<float*>(depth), w, h, dstride / 4};
   else
@@ -309,7 +309,7 @@ TargetView make_target(const ColourCase& cc, DepthFormat df, const OptionSet& se
   return t;
 }
 
-Status run(const rs::Scene& scene, const Source& src, const ColourCase& cc, DepthFormat df, const OptionSet& set,
+Status run(const rs::Scene& scene, const Source& src, const ColorCase& cc, DepthFormat df, const OptionSet& set,
            Method method, Arch arch, std::vector<Buffer>& buffers) {
   Options o = set.options;
   o.method = method;
@@ -428,7 +428,7 @@ int main(int argc, char** argv) {
       const std::string at_size = std::string(scene.name()) + "/" + std::to_string(size.width) + "x" +
                                   std::to_string(size.height) + "/";
       bool size_needed = false;
-      for (const ColourCase& cc : kColours)
+      for (const ColorCase& cc : kColors)
         for (DepthFormat df : kDepths) size_needed = size_needed || any_match(at_size + cc.name + "+" + to_string(df) + "/");
       if (!size_needed) continue;
       rs::View view;
@@ -437,7 +437,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "reproject_golden: render %s: %s\n", scene.name(), rendered.message());
         return 2;
       }
-      for (const ColourCase& cc : kColours) {
+      for (const ColorCase& cc : kColors) {
         for (DepthFormat df : kDepths) {
           const std::string frame = at_size + cc.name + "+" + to_string(df) + "/";
           if (!any_match(frame)) continue;

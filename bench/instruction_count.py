@@ -103,7 +103,7 @@ def main():
         if stage is None:
             continue
         short = re.sub(r"reproject::detail::|\(anonymous namespace\)::|xsimd::|, reproject::detail::Fused", "", name)
-        short = re.sub(r"\(ColourPath\)(\d)", r"path \1", short)
+        short = re.sub(r"\(ColorPath\)(\d)", r"path \1", short)
         short = re.sub(r"\(.*", "", short)
         if re.search(r"\bhost::|search_row_|decode_parallax_columns|nearest_key_in_columns|resolve_pixels", short):
             stage = "scalar tails"

@@ -295,7 +295,7 @@ def draw_chart(r, present, cpu_model, png_path):
     except ImportError:
         print("run_benchmarks.py: matplotlib not found (apt-get install python3-matplotlib): no chart", file=sys.stderr)
         return False
-    colours = {"scalar": "#9e9e9e", "sse": "#64b5f6", "avx2": "#1e88e5", "avx512": "#0d47a1"}
+    colors = {"scalar": "#9e9e9e", "sse": "#64b5f6", "avx2": "#1e88e5", "avx512": "#0d47a1"}
     fig, axes = plt.subplots(1, len(THREADS), figsize=(11, 4.2), sharey=True)
     width = 0.8 / max(1, len(present))
     top = 0.0
@@ -303,7 +303,7 @@ def draw_chart(r, present, cpu_model, png_path):
         for k, arch in enumerate(present):
             values = [r.mpix(name(m, arch, FULL_HD, threads)) or 0.0 for m in METHODS]
             xs = [i + (k - (len(present) - 1) / 2) * width for i in range(len(METHODS))]
-            bars = ax.bar(xs, values, width, label=arch, color=colours.get(arch, "#444444"))
+            bars = ax.bar(xs, values, width, label=arch, color=colors.get(arch, "#444444"))
             ax.bar_label(bars, labels=["%.0f" % v if v else "" for v in values], fontsize=6, padding=1)
             top = max(top, max(values))
         roof = r.mpix(roofline(FULL_HD, threads))
@@ -934,6 +934,15 @@ def write_page(data, json_path, doc_path):
         w("* Benchmarks that reported an error: " + "; ".join("`%s`: %s" % kv for kv in sorted(r.errors.items())))
     w("")
 
+    # --- Why the kernels are written as they are: measurements kept by hand beside this script ---
+    choices = pathlib.Path(__file__).resolve().parent / "design_measurements.md"
+    if choices.exists():
+        w("## Measured design choices")
+        w("")
+        for line in choices.read_text().splitlines():
+            w(line)
+        w("")
+
     # --- ARM: not timed here; the instruction mix from the object code instead ---
     w("## ARM")
     w("")
@@ -966,6 +975,14 @@ def write_page(data, json_path, doc_path):
     w("</details>")
     w("")
 
+    # The video section is measured by bench/video_throughput.py, not by this run: carried over.
+    if os.path.exists(doc_path):
+        with open(doc_path, encoding="utf-8") as f:
+            previous = f.read()
+        start = previous.find("\n## Sequences and videos\n")
+        if start >= 0:
+            end = previous.find("\n## ", start + 1)
+            out.append(previous[start + 1:end if end >= 0 else len(previous)].rstrip("\n") + "\n")
     os.makedirs(os.path.dirname(os.path.abspath(doc_path)), exist_ok=True)
     with open(doc_path, "w", encoding="utf-8") as f:
         f.write("\n".join(out))

@@ -1,4 +1,4 @@
-# The Python package (src/python: the extension module and src/python/reproject) and its tests
+# The Python package (python/: the extension module and python/reproject) and its tests
 # (tests/python), against Debian's interpreter.
 #
 # The module is built for one interpreter: /usr/bin/python3 when it exists (Debian's, the one
@@ -56,7 +56,8 @@ if(NOT DEFINED REPROJECT_PYTHON_INSTALL_DIR)
       "Where the Python package (the directory reproject/) is installed, relative to CMAKE_INSTALL_PREFIX")
 endif()
 
-add_subdirectory(${PROJECT_SOURCE_DIR}/src/python ${PROJECT_BINARY_DIR}/src/python)
+# The module's CMake files go to python_module/, apart from python/ (the package itself, beside them).
+add_subdirectory(${PROJECT_SOURCE_DIR}/python ${PROJECT_BINARY_DIR}/python_module)
 if(REPROJECT_BUILD_TESTS)
   add_subdirectory(${PROJECT_SOURCE_DIR}/tests/python ${PROJECT_BINARY_DIR}/tests/python)
 endif()

@@ -134,14 +134,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FUZZ_CHECK(input || (ok && output));
   }
   if (ok) {
-    io::LoadedImage colour_out, depth_out, status_out;
-    FUZZ_CHECK(io::read_image(out, &colour_out).ok());
+    io::LoadedImage color_out, depth_out, status_out;
+    FUZZ_CHECK(io::read_image(out, &color_out).ok());
     FUZZ_CHECK(io::read_depth(out_depth, &depth_out).ok());
     FUZZ_CHECK(io::read_depth(status, &status_out).ok());
     const Image& s = status_out.image;
-    FUZZ_CHECK(fuzz::consistent(colour_out.image) && fuzz::consistent(depth_out.image) && fuzz::consistent(s));
-    FUZZ_CHECK(depth_out.image.width() == s.width() && colour_out.image.width() == s.width());
-    FUZZ_CHECK(depth_out.image.height() == s.height() && colour_out.image.height() == s.height());
+    FUZZ_CHECK(fuzz::consistent(color_out.image) && fuzz::consistent(depth_out.image) && fuzz::consistent(s));
+    FUZZ_CHECK(depth_out.image.width() == s.width() && color_out.image.width() == s.width());
+    FUZZ_CHECK(depth_out.image.height() == s.height() && color_out.image.height() == s.height());
     for (int y = 0; y < s.height(); ++y)
       for (int x = 0; x < s.width(); ++x) FUZZ_CHECK(s.plane(0).row(y)[x] <= 3.0f);
   }

@@ -231,7 +231,7 @@ class Provider:
         return bytes(pixels) + bytes(reversed(self.consumed))
 
 
-COLOUR_KINDS = {"rgba8": 0, "rgba8_srgb": 2, "rgba16f": 4, "float_rgba": 6, "float_planar": 7}
+COLOR_KINDS = {"rgba8": 0, "rgba8_srgb": 2, "rgba16f": 4, "float_rgba": 6, "float_planar": 7}
 DEPTH_KINDS = {"float_plane": 0, "float32": 1, "unorm16": 2, "unorm24_s8": 4, "s8_unorm24": 6, "packed_linear": 8}
 FAULTS = ["none", "target_color_format", "source_color_unknown", "target_color_unknown", "source_depth_unknown",
           "target_depth_format", "source_both_depths", "target_both_depths", "target_float_depth", "stride_too_small",
@@ -239,7 +239,7 @@ FAULTS = ["none", "target_color_format", "source_color_unknown", "target_color_u
           "bad_option", "color_layout_unknown", "aliasing"]
 
 
-def formats_input(colour, depth, width, height, method, guard=0, api=0, colour_mode=0, depth_mode=2, fault="none",
+def formats_input(color, depth, width, height, method, guard=0, api=0, color_mode=0, depth_mode=2, fault="none",
                   variant=0, pad=3, offset=1, threads=1, edge=0, hole_fill=0, convergence=2, seed=0):
     """One frame: a standard decoder (near 1, far 100; linear for packed depth), a stereo model
     (separation 0.03, convergence 2 or 10, left to right), every output present."""
@@ -248,12 +248,12 @@ def formats_input(colour, depth, width, height, method, guard=0, api=0, colour_m
     p.boolean(small)
     p.range(0, 40 if small else 300, width)
     p.range(0, 8, height)
-    kind = COLOUR_KINDS[colour]
+    kind = COLOR_KINDS[color]
     p.range(0, 7, kind)
     if kind == 7:
         p.range(1, 4, 3)
-    float_colour = kind >= 6
-    p.range(0, 3 if float_colour else 9, pad % 4 if float_colour else pad)  # source colour pad
+    float_color = kind >= 6
+    p.range(0, 3 if float_color else 9, pad % 4 if float_color else pad)  # source colour pad
     p.range(0, 7, offset)                                                     # its base offset
     dkind = DEPTH_KINDS[depth]
     p.range(0, 9, dkind)
@@ -262,7 +262,7 @@ def formats_input(colour, depth, width, height, method, guard=0, api=0, colour_m
     p.range(0, 7, offset + 2)
     if depth == "packed_linear":
         p.range(0, 8, 1)  # range 0.5 .. 40
-    p.range(0, 3 if float_colour else 9, (pad + 1) % 4 if float_colour else (pad + 1) % 10)  # target colour
+    p.range(0, 3 if float_color else 9, (pad + 1) % 4 if float_color else (pad + 1) % 10)  # target colour
     p.range(0, 7, offset + 1)
     p.boolean(True)  # output depth
     if float_depth:
@@ -275,7 +275,7 @@ def formats_input(colour, depth, width, height, method, guard=0, api=0, colour_m
     p.range(0, 9, pad)
     p.range(0, 3, 1)
     p.range(0, 3, api)
-    p.range(0, 2, colour_mode)
+    p.range(0, 2, color_mode)
     p.range(0, 2, depth_mode)
     if depth == "packed_linear":
         p.range(0, 7, 0)  # linear
@@ -317,21 +317,21 @@ def formats_input(colour, depth, width, height, method, guard=0, api=0, colour_m
 def formats_seeds():
     methods = ["scanline", "march16", "single", "secant", "exact"]
     n = 0
-    for colour in COLOUR_KINDS:
+    for color in COLOR_KINDS:
         for depth in DEPTH_KINDS:
             method = n % 5
             width = [64, 97, 130, 33, 150][n % 5]
-            write("formats", "%s+%s_%s" % (colour, depth, methods[method]),
-                  formats_input(colour, depth, width, 3 + n % 3, method, guard=n % 3 * 2, api=n % 4,
-                                colour_mode=n % 3 if colour.startswith("float") or colour == "rgba16f" else 0,
+            write("formats", "%s+%s_%s" % (color, depth, methods[method]),
+                  formats_input(color, depth, width, 3 + n % 3, method, guard=n % 3 * 2, api=n % 4,
+                                color_mode=n % 3 if color.startswith("float") or color == "rgba16f" else 0,
                                 depth_mode=2 if n % 4 else 1, edge=n % 4, hole_fill=n % 3, threads=1 + n % 2,
                                 pad=n % 10, offset=n % 5, convergence=10 if n % 2 else 2, seed=n))
             n += 1
     for i, fault in enumerate(FAULTS[1:]):
-        colour = list(COLOUR_KINDS)[i % 5]
+        color = list(COLOR_KINDS)[i % 5]
         depth = {"float_depth_misaligned": "float32", "packed_range": "packed_linear", "target_float_depth": "unorm16",
                  "source_depth_unknown": "s8_unorm24"}.get(fault, list(DEPTH_KINDS)[i % 6])
-        write("formats", "fault_" + fault, formats_input(colour, depth, 24, 2, i % 5, fault=fault, variant=i % 2,
+        write("formats", "fault_" + fault, formats_input(color, depth, 24, 2, i % 5, fault=fault, variant=i % 2,
                                                          pad=i % 10, seed=100 + i))
 
 

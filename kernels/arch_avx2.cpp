@@ -6,7 +6,7 @@
 namespace reproject::detail {
 
 const KernelTable* avx2_kernels() {
-  static const KernelTable table = make_simd_table<xsimd::fma3<xsimd::avx2>, Fused>("avx2");
+  static const KernelTable table = make_simd_table<Arch::avx2>("avx2");
   return &table;
 }
 

@@ -5,7 +5,7 @@
 namespace reproject::detail {
 
 const KernelTable* avx512_kernels() {
-  static const KernelTable table = make_simd_table<xsimd::avx512bw, Fused>("avx512");
+  static const KernelTable table = make_simd_table<Arch::avx512>("avx512");
   return &table;
 }
 

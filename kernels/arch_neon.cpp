@@ -6,7 +6,7 @@
 namespace reproject::detail {
 
 const KernelTable* neon_kernels() {
-  static const KernelTable table = make_simd_table<xsimd::neon64, Fused>("neon");
+  static const KernelTable table = make_simd_table<Arch::neon>("neon");
   return &table;
 }
 

@@ -5,7 +5,7 @@
 namespace reproject::detail {
 
 const KernelTable* sse_kernels() {
-  static const KernelTable table = make_simd_table<xsimd::sse4_1, Unfused>("sse");
+  static const KernelTable table = make_simd_table<Arch::sse>("sse");
   return &table;
 }
 

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 namespace reproject::detail {
@@ -19,10 +21,41 @@ struct Unfused {};
 // per translation unit").
 namespace {
 
+// a b + c rounded once, without the C library (docs/DESIGN.md §8, "fma without the C library").
+// The product of two floats is exact in a double; the sum is rounded to double "to odd" (to
+// nearest, then, if inexact and even, one unit toward the exact value), which makes the final
+// conversion to float the only rounding. Infinities and NaNs come out of the double arithmetic as
+// IEEE says.
+inline float fma_in_software(float a, float b, float c) noexcept {
+  const double product = static_cast<double>(a) * static_cast<double>(b);
+  const double addend = c;
+  const double sum = product + addend;
+  if (!std::isfinite(sum)) return static_cast<float>(sum);
+  const double product_part = sum - addend;  // TwoSum: the sum's rounding error, exactly
+  const double error = (product - product_part) + (addend - (sum - product_part));
+  std::uint64_t bits;
+  std::memcpy(&bits, &sum, sizeof bits);
+  if (error != 0.0 && (bits & 1u) == 0) bits += (error > 0.0) == (sum > 0.0) ? 1 : -1;
+  double odd;
+  std::memcpy(&odd, &bits, sizeof odd);
+  return static_cast<float>(odd);
+}
+
+// a b + c rounded once: the instruction where this translation unit has one, and the software
+// form elsewhere, where std::fma would call the C library, which is slow and, on some platforms
+// (MinGW-w64's), does not round once.
+inline float fused_madd(float a, float b, float c) noexcept {
+#if defined(__FMA__) || defined(__aarch64__) || defined(_M_ARM64)
+  return std::fma(a, b, c);
+#else
+  return fma_in_software(a, b, c);
+#endif
+}
+
 template <class Fma>
 inline float madd(float a, float b, float c) noexcept {
   if constexpr (std::is_same<Fma, Fused>::value) {
-    return std::fma(a, b, c);
+    return fused_madd(a, b, c);
   } else {
     return a * b + c;
   }

@@ -17,21 +17,12 @@ using SearchRow = void (*)(const Frame& f, RowScratch& scratch);
 using ResolveRow = void (*)(const Frame& f, int y, const RowScratch& scratch);
 using NearestKey = float (*)(const Frame& f, const std::uint8_t* depth);  // max of key_far and s * p over a row
 
-// How many vectors the calling thread's SIMD resolve has read in each column-fetch mode
-// (consecutive, shifted, spanning, gather; kernels/simd.hpp), per table: the bit-identity test
-// reads them to show that every mode ran. Scalar tables have none.
-struct FetchModeCounts {
-  std::uint64_t vectors[4];
-};
-using FetchModeCountsOfThread = FetchModeCounts* (*)();
-
 struct KernelTable {
   const char* name;
   DecodeRow decode;
   NearestKey nearest_key;
   SearchRow search[kMethodCount];
   ResolveRow resolve;
-  FetchModeCountsOfThread fetch_mode_counts;  // null for the scalar references
 };
 
 // The scalar references are compiled twice (CMakeLists.txt): with the baseline flags, and with

@@ -21,39 +21,39 @@ namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // How a row's colour is read and written: a float per lane and plane; a pixel per 128-bit
 // register (float RGBA, rgba16f); a 32-bit word per lane (rgba8, rgba8_srgb).
-enum class ColourPath { planes, float_rgba, half_rgba, rgba8, rgba8_srgb };
+enum class ColorPath { planes, float_rgba, half_rgba, rgba8, rgba8_srgb };
 
 // Calls body(tag) with a compile-time tag of the colour path (as with_depth_format does for depth).
 template <class Body>
-void with_colour_path(ColourPath path, const Body& body) {
+void with_color_path(ColorPath path, const Body& body) {
   switch (path) {
-    case ColourPath::planes: return body(std::integral_constant<ColourPath, ColourPath::planes>{});
-    case ColourPath::float_rgba: return body(std::integral_constant<ColourPath, ColourPath::float_rgba>{});
-    case ColourPath::half_rgba: return body(std::integral_constant<ColourPath, ColourPath::half_rgba>{});
-    case ColourPath::rgba8: return body(std::integral_constant<ColourPath, ColourPath::rgba8>{});
-    case ColourPath::rgba8_srgb: return body(std::integral_constant<ColourPath, ColourPath::rgba8_srgb>{});
+    case ColorPath::planes: return body(std::integral_constant<ColorPath, ColorPath::planes>{});
+    case ColorPath::float_rgba: return body(std::integral_constant<ColorPath, ColorPath::float_rgba>{});
+    case ColorPath::half_rgba: return body(std::integral_constant<ColorPath, ColorPath::half_rgba>{});
+    case ColorPath::rgba8: return body(std::integral_constant<ColorPath, ColorPath::rgba8>{});
+    case ColorPath::rgba8_srgb: return body(std::integral_constant<ColorPath, ColorPath::rgba8_srgb>{});
   }
 }
 
-inline ColourPath colour_path_of(const Frame& f) {
+inline ColorPath color_path_of(const Frame& f) {
   switch (f.color_format) {
-    case ColorFormat::rgba8: return ColourPath::rgba8;
-    case ColorFormat::rgba8_srgb: return ColourPath::rgba8_srgb;
-    case ColorFormat::rgba16f: return ColourPath::half_rgba;
+    case ColorFormat::rgba8: return ColorPath::rgba8;
+    case ColorFormat::rgba8_srgb: return ColorPath::rgba8_srgb;
+    case ColorFormat::rgba16f: return ColorPath::half_rgba;
     case ColorFormat::float32: break;
   }
-  return f.source.color.layout == ColorLayout::interleaved_rgba ? ColourPath::float_rgba : ColourPath::planes;
+  return f.source.color.layout == ColorLayout::interleaved_rgba ? ColorPath::float_rgba : ColorPath::planes;
 }
 
 // What every vector of row y shares: its rows, outputs and the frame's choices.
 template <class Arch>
-struct ResolveRow {
+struct RowContext {
   using F = typename Lanes<Arch>::F;
 
-  ResolveRow(const Frame& frame, int y, const RowScratch& scratch)
+  RowContext(const Frame& frame, int y, const RowScratch& scratch)
       : f(frame),
-        path(colour_path_of(frame)),
-        planes(path == ColourPath::planes ? frame.source.color.channels : 1),
+        path(color_path_of(frame)),
+        planes(path == ColorPath::planes ? frame.source.color.channels : 1),
         source_width(frame.source_width),
         parallax(scratch.parallax),
         source_x(scratch.source_x.data()),
@@ -88,7 +88,7 @@ struct ResolveRow {
   }
 
   const Frame& f;
-  ColourPath path;
+  ColorPath path;
   int planes;
   int source_width;
   const std::uint8_t* source[4] = {};
@@ -112,22 +112,21 @@ struct ResolveRow {
 };
 
 // Bytes of a pixel in one colour plane.
-constexpr int pixel_bytes_of(ColourPath path) {
-  return path == ColourPath::float_rgba ? 16 : path == ColourPath::half_rgba ? 8 : 4;
+constexpr int pixel_bytes_of(ColorPath path) {
+  return path == ColorPath::float_rgba ? 16 : path == ColorPath::half_rgba ? 8 : 4;
 }
 
 // The next row's depth and colour at the columns of target pixels [t, t + L), asked for while this
 // row computes, so that the next row's decode and resolve find them in the cache instead of
-// waiting for them stage by stage (same-run A/B, 1080p, 1 thread: float RGBA and rgba16f 6-14 %
-// faster, rgba8 0-4 %, float planes' depth 5-10 %). Not the colour of float planes: their resolve
-// reads a kilobyte ahead in each plane already, and four more prefetches per vector made them
-// 4-5 % slower.
-template <ColourPath Path, class Arch>
-REPROJECT_ALWAYS_INLINE inline void prefetch_next_row(const ResolveRow<Arch>& row, int t) {
+// waiting for them stage by stage. Not the colour of float planes: their resolve reads a kilobyte
+// ahead in each plane already, and four more prefetches per vector made them slower
+// (docs/PERFORMANCE.md, "Measured design choices").
+template <ColorPath Path, class Arch>
+REPROJECT_ALWAYS_INLINE inline void prefetch_next_row(const RowContext<Arch>& row, int t) {
   constexpr int L = Lanes<Arch>::size;
   constexpr int kBytes = L * pixel_bytes_of(Path);
   __builtin_prefetch(row.next_depth + static_cast<std::ptrdiff_t>(t) * row.depth_bytes);
-  if constexpr (Path != ColourPath::planes) {  // one plane of pixels
+  if constexpr (Path != ColorPath::planes) {  // one plane of pixels
     const std::uint8_t* next = row.next_source + static_cast<std::ptrdiff_t>(t) * pixel_bytes_of(Path);
     for (int line = 0; line < kBytes; line += 64) __builtin_prefetch(next + line);
   }
@@ -147,28 +146,28 @@ REPROJECT_ALWAYS_INLINE inline void store_lanes(float* out, const xsimd::batch<f
 
 // The colour of target pixels [t, t + L): columns j0 and j1 blended at frac (scalar twin:
 // ColorRow::write). `fetch` reads a row's values at both column sets (ColumnFetch::visit).
-template <ColourPath Path, class Arch, class Fma, class Fetch>
-REPROJECT_ALWAYS_INLINE inline void write_colour(const ResolveRow<Arch>& row, const Fetch& fetch, int t,
+template <ColorPath Path, class Arch, class Fma, class Fetch>
+REPROJECT_ALWAYS_INLINE inline void write_color(const RowContext<Arch>& row, const Fetch& fetch, int t,
                                                  const xsimd::batch<float, Arch>& j0, const xsimd::batch<float, Arch>& j1,
                                                  const xsimd::batch<float, Arch>& frac,
                                                  const xsimd::batch_bool<float, Arch>& write,
                                                  const xsimd::batch_bool<float, Arch>& black, bool masked, bool any_black) {
   REPROJECT_LANE_TYPES(Arch);
   const std::ptrdiff_t out_byte = static_cast<std::ptrdiff_t>(t) * pixel_bytes_of(Path);
-  if constexpr (Path == ColourPath::float_rgba || Path == ColourPath::half_rgba) {
-    using Pixel = std::conditional_t<Path == ColourPath::float_rgba, FloatRgbaPixel, HalfRgbaPixel>;
+  if constexpr (Path == ColorPath::float_rgba || Path == ColorPath::half_rgba) {
+    using Pixel = std::conditional_t<Path == ColorPath::float_rgba, FloatRgbaPixel, HalfRgbaPixel>;
     resolve_rgba_pixels<Arch, Fma, Pixel>(row.source[0], row.target[0] + out_byte, j0, j1, frac, ~write, black,
                                           masked || any_black);
-  } else if constexpr (Path == ColourPath::rgba8 || Path == ColourPath::rgba8_srgb) {
+  } else if constexpr (Path == ColorPath::rgba8 || Path == ColorPath::rgba8_srgb) {
     F c0, c1;
     fetch(reinterpret_cast<const float*>(row.source[0]), c0, c1);
-    const I blended = blend_rgba8<Arch, Fma, Path == ColourPath::rgba8_srgb>(row.f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac);
+    const I blended = blend_rgba8<Arch, Fma, Path == ColorPath::rgba8_srgb>(row.f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac);
     store_lanes<Arch>(reinterpret_cast<float*>(row.target[0] + out_byte), float_bits<Arch>(blended), write, black, masked,
                       any_black);
   } else {
     for (int c = 0; c < row.planes; ++c) {
-      // A kilobyte ahead in each colour plane: a measured 1-3 % over the hardware prefetcher
-      // alone, which tracks this many streams less well.
+      // A kilobyte ahead in each colour plane: the hardware prefetcher alone tracks this many
+      // streams less well (docs/PERFORMANCE.md, "Measured design choices").
       __builtin_prefetch(row.source[c] + 4 * t + 1024);
       F c0, c1;
       fetch(reinterpret_cast<const float*>(row.source[c]), c0, c1);
@@ -181,7 +180,7 @@ REPROJECT_ALWAYS_INLINE inline void write_colour(const ResolveRow<Arch>& row, co
 // The output depth of target pixels [t, t + L) (scalar twin: interpolate_depth and depth_word in
 // resolve_pixels).
 template <class Arch, class Fma, class Fetch>
-REPROJECT_ALWAYS_INLINE inline void write_depth(const ResolveRow<Arch>& row, const Fetch& fetch, int t,
+REPROJECT_ALWAYS_INLINE inline void write_depth(const RowContext<Arch>& row, const Fetch& fetch, int t,
                                                 const xsimd::batch<float, Arch>& frac,
                                                 const xsimd::batch_bool<float, Arch>& write, bool masked) {
   REPROJECT_LANE_TYPES(Arch);
@@ -215,10 +214,10 @@ REPROJECT_ALWAYS_INLINE inline void write_depth(const ResolveRow<Arch>& row, con
   }
 }
 
-// Target pixels [t, t + L) whatever their lanes hold (scalar twin: resolve_pixels).
-// `counts`: vectors per column-fetch mode, added to the thread's FetchModeCounts once per row.
-template <class Arch, class Fma>
-__attribute__((noinline)) void resolve_vector(const ResolveRow<Arch>& row, int t, FetchModeCounts& counts) {
+// Target pixels [t, t + L) whatever their lanes hold (scalar twin: resolve_pixels). `tally`
+// hears the fetch mode of every vector (kernels/simd.hpp, NoFetchTally).
+template <class Arch, class Fma, class Tally>
+__attribute__((noinline)) void resolve_vector(const RowContext<Arch>& row, int t, Tally& tally) {
   REPROJECT_LANE_TYPES(Arch);
   const F zero(0.0f), one(1.0f);
   const F x = F::load_unaligned(row.source_x + t);
@@ -234,7 +233,7 @@ __attribute__((noinline)) void resolve_vector(const ResolveRow<Arch>& row, int t
   F frac = xc - j0;
   // Every column read below lies in [j0, j1] (a fill picks one of the two).
   ColumnFetch<Arch> columns(j0, j1, row.source_width);
-  ++counts.vectors[static_cast<int>(columns.mode())];
+  tally.add(static_cast<int>(columns.mode()));
   F p0, p1;
   columns.fetch(row.parallax, p0, p1);
   const B hole = ((p1 - p0) > row.tau) & ~(clipped | outside);
@@ -249,7 +248,7 @@ __attribute__((noinline)) void resolve_vector(const ResolveRow<Arch>& row, int t
     j1 = xsimd::select(hole, fill, j1);
     frac = xsimd::select(hole, zero, frac);
     columns.bind(j0, j1);
-    ++counts.vectors[static_cast<int>(columns.mode())];
+    tally.add(static_cast<int>(columns.mode()));
   }
   // Lanes whose colour and depth are left to the caller keep the target's values.
   const bool masked = (!row.edges_written && xsimd::any(outside)) || (!row.holes_written && any_hole);
@@ -257,8 +256,8 @@ __attribute__((noinline)) void resolve_vector(const ResolveRow<Arch>& row, int t
   const B black = outside & B(row.black_edges);
   const bool any_black = row.black_edges && xsimd::any(black);
   columns.visit([&](const auto& fetch) {
-    with_colour_path(row.path, [&](auto path) {
-      write_colour<decltype(path)::value, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
+    with_color_path(row.path, [&](auto path) {
+      write_color<decltype(path)::value, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
     });
     if (row.depth_out) write_depth<Arch, Fma>(row, fetch, t, frac, write, masked);
   });
@@ -271,20 +270,20 @@ __attribute__((noinline)) void resolve_vector(const ResolveRow<Arch>& row, int t
 
 // Colour and depth of hit pixels [t, t + L) (every lane written, none black) for one column
 // fetch: ColumnFetch::visit's body in the hit loop. A functor so that it can be forced inline:
-// GCC kept the equivalent lambda out of line, and the call per vector (its vector arguments
-// passed through memory) made the planar float path 15-20 % slower (same-run A/B, `single`).
-template <ColourPath Path, bool WithDepth, class Arch, class Fma>
+// GCC kept the equivalent lambda out of line, and the call per vector passed its vector arguments
+// through memory (docs/PERFORMANCE.md, "Measured design choices").
+template <ColorPath Path, bool WithDepth, class Arch, class Fma>
 struct WriteHits {
   using F = typename Lanes<Arch>::F;
   using B = typename Lanes<Arch>::B;
-  const ResolveRow<Arch>& row;
+  const RowContext<Arch>& row;
   int t;
   F j0, j1, frac;
 
   template <class Fetch>
   REPROJECT_ALWAYS_INLINE void operator()(const Fetch& fetch) const {
     const B none(false);
-    write_colour<Path, Arch, Fma>(row, fetch, t, j0, j1, frac, ~none, none, false, false);
+    write_color<Path, Arch, Fma>(row, fetch, t, j0, j1, frac, ~none, none, false, false);
     if constexpr (WithDepth) write_depth<Arch, Fma>(row, fetch, t, frac, ~none, false);
   }
 };
@@ -295,19 +294,18 @@ struct WriteHits {
 // clipped lane is never a hole, no lane is masked or black, and the status is hit (0) or clipped (3).
 // (Out of line, one call per row: so that each path's loop is a function of its own in profiles
 // and instruction counts, bench/instruction_count.py, whatever the compiler would have inlined.)
-template <ColourPath Path, bool WithDepth, class Arch, class Fma>
-__attribute__((noinline)) void resolve_hits(const ResolveRow<Arch>& whole_row, int whole, FetchModeCounts& counts) {
+template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally>
+__attribute__((noinline)) void resolve_hits(const RowContext<Arch>& whole_row, int whole, Tally& tally) {
   REPROJECT_LANE_TYPES(Arch);
   // A copy the compiler can keep in registers: the stores below go through byte pointers, which
   // may alias anything, so fields read through a reference would be reloaded after each of them.
-  const ResolveRow<Arch> row = whole_row;
+  const RowContext<Arch> row = whole_row;
   const F zero(0.0f), one(1.0f);
-  FetchModeCounts hits{};
   for (int t = 0; t < whole; t += L) {
     const F x = F::load_unaligned(row.source_x + t);
     // All in [0, last] (a NaN x fails too, and takes the general path).
     if (!xsimd::all((x >= zero) & (x <= row.last))) {
-      resolve_vector<Arch, Fma>(whole_row, t, counts);
+      resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;
     }
     const B clipped = load_flags<Arch>(row.clipped + t);
@@ -319,10 +317,10 @@ __attribute__((noinline)) void resolve_hits(const ResolveRow<Arch>& whole_row, i
     F p0, p1;
     columns.fetch(row.parallax, p0, p1);
     if (xsimd::any(((p1 - p0) > row.tau) & ~clipped)) {  // a wall: a hole's fill
-      resolve_vector<Arch, Fma>(whole_row, t, counts);
+      resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;
     }
-    ++hits.vectors[static_cast<int>(columns.mode())];
+    tally.add(static_cast<int>(columns.mode()));
     prefetch_next_row<Path>(row, t);
     columns.visit(WriteHits<Path, WithDepth, Arch, Fma>{row, t, j0, j1, frac});
     if (row.status_out) {
@@ -330,25 +328,23 @@ __attribute__((noinline)) void resolve_hits(const ResolveRow<Arch>& whole_row, i
     }
     if (row.x_out) x.store_unaligned(row.x_out + t);
   }
-  for (int m = 0; m < 4; ++m) counts.vectors[m] += hits.vectors[m];
 }
 
-template <ColourPath Path, class Arch, class Fma>
-void resolve_hits_of_path(const ResolveRow<Arch>& row, int whole, FetchModeCounts& counts) {
-  if (row.depth_out) resolve_hits<Path, true, Arch, Fma>(row, whole, counts);
-  else resolve_hits<Path, false, Arch, Fma>(row, whole, counts);
+template <ColorPath Path, class Arch, class Fma, class Tally>
+void resolve_hits_of_path(const RowContext<Arch>& row, int whole, Tally& tally) {
+  if (row.depth_out) resolve_hits<Path, true, Arch, Fma>(row, whole, tally);
+  else resolve_hits<Path, false, Arch, Fma>(row, whole, tally);
 }
 
 // Scalar twin: resolve_pixels.
-template <class Arch, class Fma>
+template <class Arch, class Fma, class Tally = NoFetchTally>
 void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   constexpr int L = Lanes<Arch>::size;
-  const ResolveRow<Arch> row(f, y, scratch);
+  const RowContext<Arch> row(f, y, scratch);
   const int whole = f.target_width / L * L;
-  FetchModeCounts counts{};
-  with_colour_path(row.path,
-                   [&](auto path) { resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, counts); });
-  for (int m = 0; m < 4; ++m) t_fetch_modes.vectors[m] += counts.vectors[m];
+  Tally tally{};
+  with_color_path(row.path, [&](auto path) { resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally); });
+  tally.end_row();
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail
 }
 

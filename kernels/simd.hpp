@@ -1,6 +1,6 @@
 // Internal: the SIMD primitives every twin shares, written once with xsimd over the arch layer
-// (kernels/simd_x86.hpp, kernels/simd_neon.hpp: FMA per width, floor/min/max, gathers, permutes,
-// lane reductions, byte, 16-bit and half stores).
+// (kernels/arch_layer.hpp: the contracts of FMA per width, floor/min/max, gathers, permutes, lane
+// reductions, byte, 16-bit and half stores; one family file per processor defines them).
 // Instantiated per instruction set by kernels/arch_<set>.cpp, each compiled with its own flags
 // (kernels/simd_table.hpp assembles a table). Lanes are consecutive target pixels.
 //
@@ -12,24 +12,8 @@
 #include <cstdint>
 #include <xsimd/xsimd.hpp>
 
+#include "kernels/arch_layer.hpp"
 #include "kernels/kernel_table.hpp"
-
-// Forces inlining where the compiler's heuristics keep a per-vector helper out of line in the
-// row loops (GCC and Clang; MSVC spells it __forceinline).
-#if defined(_MSC_VER) && !defined(__clang__)
-#define REPROJECT_ALWAYS_INLINE __forceinline
-#else
-#define REPROJECT_ALWAYS_INLINE __attribute__((always_inline))
-#endif
-
-// The arch layer of the processor family this translation unit is compiled for.
-#if defined(__aarch64__) || defined(_M_ARM64)
-#include "kernels/simd_neon.hpp"
-#elif defined(__x86_64__) || defined(__i386__) || defined(_M_X64) || defined(_M_IX86)
-#include "kernels/simd_x86.hpp"
-#else
-#error "no arch layer for this processor: CMake compiles no SIMD table here (REPROJECT_SIMD)"
-#endif
 
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
@@ -38,6 +22,7 @@ namespace {  // one copy per arch TU (kernels/fma.hpp)
 // goes through two 128-bit integer compares; ~ is one xor (and folds into andnot).
 template <class Arch>
 struct Lanes {
+  static_assert(has_arch_block<Arch>(), "the arch layer serves this instruction set");
   using F = xsimd::batch<float, Arch>;
   using I = xsimd::batch<std::int32_t, Arch>;
   using B = xsimd::batch_bool<float, Arch>;
@@ -83,7 +68,7 @@ xsimd::batch_bool<float, Arch> load_flags(const float* in) {
 // vector's source columns are nearly consecutive, so contiguous loads and permutes replace the
 // gathers, which are much slower. The same two column sets are read from every plane of the row,
 // so the plan is made once per vector and the lane indices once per column set.
-// Modes, on every width with a permute (kHasPermute; otherwise it gathers):
+// Modes, on every width with a permute (has_permute; otherwise it gathers):
 //  * `consecutive`: first[i] = base + i and second[i] = base + i + 1 (a surface at constant
 //    parallax): two plain loads;
 //  * `shifted`: first[i] within L columns from `base`, and second[i] within L columns from
@@ -92,10 +77,14 @@ xsimd::batch_bool<float, Arch> load_flags(const float* in) {
 //  * `spanning`: both sets within 2L columns from `base`: two loads and a two-register permute
 //    per set;
 //  * otherwise gathers.
-// The calling thread's FetchModeCounts of this table (this TU's copy: the namespace is anonymous).
-// initial-exec: an fs-relative access, not a __tls_get_addr call.
-__attribute__((tls_model("initial-exec"))) inline thread_local FetchModeCounts t_fetch_modes{};
-inline FetchModeCounts* fetch_modes_of_thread() { return &t_fetch_modes; }
+// Vectors per column-fetch mode: the resolve tells its tally the mode of every vector it fetches.
+// The library's tables count nothing (NoFetchTally: empty, so the calls compile to nothing and
+// the release loops carry no counter); the bit-identity test builds tables of its own with a
+// counting tally (tests/arch_layer/counted_tables.cpp) to show that every mode ran.
+struct NoFetchTally {
+  void add(int /*mode*/) {}
+  void end_row() {}
+};
 
 template <class Arch>
 class ColumnFetch {
@@ -108,11 +97,10 @@ class ColumnFetch {
   // least `row_length` columns; every load stays inside them.
   ColumnFetch(const F& first, const F& second, int row_length) : row_length_(row_length) { bind(first, second); }
 
-  // (Re)plans for new column sets (hole fills). The caller counts the vectors per mode (the
-  // resolve adds them to t_fetch_modes once per row: not a thread-local add per vector).
+  // (Re)plans for new column sets (hole fills).
   void bind(const F& first, const F& second) { mode_ = plan(first, second); }
 
-  // The order of FetchModeCounts.
+  // The order of a tally's modes.
   enum class Mode { consecutive, shifted, spanning, gather };
   Mode mode() const { return mode_; }
 
@@ -136,7 +124,7 @@ class ColumnFetch {
 
  private:
   Mode plan(const F& first, const F& second) {
-    if constexpr (kHasPermute<Arch>) {
+    if constexpr (has_permute<Arch>()) {
       // Lane i reads column base + i (and base + i + 1): plain loads, nothing to permute. Tested
       // from lane 0 first, without a reduction: the common case on smooth surfaces.
       const float lane0 = first_lane<Arch>(first);
@@ -175,7 +163,7 @@ class ColumnFetch {
 
   template <Mode M>
   void fetch_as(const float* row, F& at_first, F& at_second) const {
-    if constexpr (kHasPermute<Arch>) {
+    if constexpr (has_permute<Arch>()) {
       if constexpr (M == Mode::consecutive) {
         at_first = F::load_unaligned(row + base_);
         at_second = F::load_unaligned(row + base_ + 1);

@@ -1,7 +1,7 @@
-// Internal: the AArch64 family of the arch layer (docs/ARCHITECTURE.md, "The arch layer"): the
-// same names as kernels/simd_x86.hpp, for Advanced SIMD (xsimd's neon64, 4 float lanes), which
-// every AArch64 processor has. Each function gives the bits its x86 twin gives for the same
-// inputs, so the neon table equals the scalar reference and the AVX2 and AVX-512 tables.
+// Internal: the AArch64 family of the arch layer (contracts: kernels/arch_layer.hpp, which
+// includes this file): Advanced SIMD (xsimd's neon64, 4 float lanes), which every AArch64
+// processor has, and the only set this family serves. Each function follows the contract its x86
+// twin follows, so the neon table equals the scalar reference and the AVX2 and AVX-512 tables.
 //
 // Where xsimd 8.1 would be wrong or slow here, the intrinsic is named:
 //  * floor: neon64 has no floor kernel in xsimd 8.1, and the generic one (convert to integer and
@@ -34,6 +34,11 @@
 
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
+
+template <class Arch>
+constexpr bool has_arch_block() {
+  return std::is_same<Arch, xsimd::neon64>::value;
+}
 
 template <class Fma, class F>
 F vmadd(const F& a, const F& b, const F& c) {
@@ -103,18 +108,22 @@ xsimd::batch<float, Arch> gather(const float* base, const xsimd::batch<std::int3
   return xsimd::batch<float, Arch>::load_aligned(value);
 }
 
-// Horizontal minimum (Max false) or maximum (Max true). Used on column numbers and on decoded
-// keys, which hold no NaN; which zero comes out of +0 and -0 does not matter to any caller
-// (set_near_key makes the frame's nearest key +0).
+// IEEE totalOrder through signed integers (a negative float's magnitude bits flipped; the map is
+// its own inverse), reduced with the across-lanes integer minimum or maximum.
 template <class Arch, bool Max>
 float lane_extreme(const xsimd::batch<float, Arch>& v) {
-  return Max ? vmaxvq_f32(v) : vminvq_f32(v);
+  const int32x4_t bits = vreinterpretq_s32_f32(v);
+  const int32x4_t key = veorq_s32(bits, vandq_s32(vshrq_n_s32(bits, 31), vdupq_n_s32(0x7fffffff)));
+  const std::int32_t extreme = Max ? vmaxvq_s32(key) : vminvq_s32(key);
+  return float_of_bits(static_cast<std::uint32_t>(extreme ^ ((extreme >> 31) & 0x7fffffff)));
 }
 
 // Permutes across lanes with the byte table look-up: lane i takes v[index[i]], index < 4 (one
 // register) or < 8 (two). Prepared once per index vector as byte indices 4 index + 0..3.
 template <class Arch>
-constexpr bool kHasPermute = true;
+constexpr bool has_permute() {
+  return true;
+}
 
 template <class Arch>
 float first_lane(const xsimd::batch<float, Arch>& v) {

@@ -12,8 +12,19 @@
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-template <class Arch, class Fma>
+// The xsimd architecture and FMA policy of each instruction set's table: the library's
+// (kernels/arch_<set>.cpp) and the tests' counting copies (tests/arch_layer/) alike.
+template <Arch Set> struct InstructionSet;
+template <> struct InstructionSet<Arch::sse> { using arch = xsimd::sse4_1; using fma = Unfused; };
+template <> struct InstructionSet<Arch::avx2> { using arch = xsimd::fma3<xsimd::avx2>; using fma = Fused; };
+template <> struct InstructionSet<Arch::avx512> { using arch = xsimd::avx512bw; using fma = Fused; };
+template <> struct InstructionSet<Arch::neon> { using arch = xsimd::neon64; using fma = Fused; };
+
+// `Tally` hears the resolve's column-fetch modes (kernels/simd.hpp): NoFetchTally in the library.
+template <Arch Set, class Tally = NoFetchTally>
 KernelTable make_simd_table(const char* name) {
+  using Arch = typename InstructionSet<Set>::arch;
+  using Fma = typename InstructionSet<Set>::fma;
   KernelTable table{};
   table.name = name;
   table.decode = simd_decode<Arch, Fma>;
@@ -23,8 +34,7 @@ KernelTable make_simd_table(const char* name) {
   table.search[static_cast<int>(Method::single)] = simd_single<Arch, Fma>;
   table.search[static_cast<int>(Method::secant)] = simd_secant<Arch, Fma>;
   table.search[static_cast<int>(Method::exact)] = simd_exact<Arch, Fma>;
-  table.resolve = simd_resolve<Arch, Fma>;
-  table.fetch_mode_counts = fetch_modes_of_thread;
+  table.resolve = simd_resolve<Arch, Fma, Tally>;
   return table;
 }
 

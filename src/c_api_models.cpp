@@ -205,6 +205,16 @@ reproject_status reproject_parallax_from_physical(double interocular, double scr
   return model_out(ParallaxModel::from_physical(interocular, screen_width, convergence, width, direction_of(direction)),
                    direction, out);
 }
+reproject_status reproject_parallax_from_rig(double interaxial, double convergence, double horizontal_fov,
+                                             int32_t width, int32_t direction, reproject_parallax* out) {
+  return model_out(StereoCamera::from_rig(interaxial, convergence, horizontal_fov).parallax(width, direction_of(direction)),
+                   direction, out);
+}
+reproject_status reproject_parallax_from_relative(double max_parallax, double zero_plane, int32_t width,
+                                                  int32_t direction, reproject_parallax* out) {
+  return model_out(ParallaxModel::from_relative(max_parallax, zero_plane, width, direction_of(direction)), direction,
+                   out);
+}
 reproject_status reproject_parallax_from_disparity(int32_t direction, reproject_parallax* out) {
   return model_out(ParallaxModel::from_disparity(direction_of(direction)), direction, out);
 }

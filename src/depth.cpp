@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "kernels/fma.hpp"
 #include "src/nan_reason.hpp"
 
 namespace reproject {
@@ -241,7 +242,7 @@ Status DepthDecoder::validate() const noexcept {
 
 float DepthDecoder::inverse_depth(float d) const noexcept {
   // One fused multiply-add, the same rounding the kernels use (docs/BEHAVIOUR.md: parallax decode).
-  if (is_affine()) return std::fma(A_, d, B_);
+  if (is_affine()) return detail::fused_madd(A_, d, B_);
   return 1.0f / d;
 }
 

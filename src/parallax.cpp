@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 
+#include "kernels/fma.hpp"
 #include "src/nan_reason.hpp"
 
 namespace reproject {
@@ -21,10 +22,11 @@ enum class Reason : std::uint32_t {
   width,         // width < 1
   screen_width,  // screen_width <= 0 or not finite
   direction,     // an EyeDirection outside the enum
+  zero_plane,    // a relative zero-parallax plane outside 0..1
 };
 
 float reason_nan(Reason reason) noexcept { return detail::nan_with_reason(reason); }
-Reason reason_of(float value) noexcept { return detail::reason_in(value, Reason::direction); }
+Reason reason_of(float value) noexcept { return detail::reason_in(value, Reason::zero_plane); }
 
 ParallaxModel refused(Reason reason) noexcept {
   ParallaxModel model;
@@ -57,7 +59,7 @@ double eye_offset(EyeDirection direction) noexcept {
 
 float ParallaxModel::parallax(float inverse_depth) const noexcept {
   // Fused, as the kernels round it (DESIGN §6: fma on both the scalar and the SIMD side).
-  return std::fma(b, inverse_depth, a);
+  return detail::fused_madd(b, inverse_depth, a);
 }
 
 ParallaxModel ParallaxModel::from_stereo(double separation, double convergence, int width,
@@ -95,6 +97,22 @@ ParallaxModel ParallaxModel::from_disparity(EyeDirection direction) noexcept {
   return model;
 }
 
+// Relative inverse depth v (docs/BEHAVIOUR.md "Relative inverse depth"), decoded as w = v: the
+// eyes' parallax is sigma D W (z0 - v), zero at v = z0 and D W apart from v = 0 to v = 1. As a
+// stereo model it is a = sigma D W z0 (the parallax at v = 0), b = -sigma D W.
+ParallaxModel ParallaxModel::from_relative(double max_parallax, double zero_plane, int width,
+                                           EyeDirection direction) noexcept {
+  if (!known_direction(direction)) return refused(Reason::direction);
+  if (!std::isfinite(max_parallax) || !(max_parallax >= 0.0)) return refused(Reason::separation);
+  if (!(zero_plane >= 0.0 && zero_plane <= 1.0)) return refused(Reason::zero_plane);
+  if (width < 1) return refused(Reason::width);
+  const double span = eye_offset(direction) * max_parallax * static_cast<double>(width);
+  ParallaxModel model;
+  model.a = static_cast<float>(span * zero_plane);
+  model.b = static_cast<float>(-span);
+  return model;
+}
+
 Status ParallaxModel::validate() const noexcept {
   if (std::isfinite(a) && std::isfinite(b)) return Status();
   switch (reason_of(a)) {
@@ -102,13 +120,16 @@ Status ParallaxModel::validate() const noexcept {
       return Status(StatusCode::invalid_model, "parallax model: convergence must be finite and > 0");
     case Reason::separation:
       return Status(StatusCode::invalid_model,
-                    "parallax model: separation (interocular / screen width) must be finite and >= 0");
+                    "parallax model: separation (interocular / screen width, or the relative maximum parallax) must "
+                    "be finite and >= 0");
     case Reason::width:
       return Status(StatusCode::invalid_model, "parallax model: image width must be >= 1");
     case Reason::screen_width:
       return Status(StatusCode::invalid_model, "parallax model: screen width must be finite and > 0");
     case Reason::direction:
       return Status(StatusCode::invalid_model, "parallax model: unknown eye direction");
+    case Reason::zero_plane:
+      return Status(StatusCode::invalid_model, "parallax model: the relative zero-parallax plane must be in 0..1");
     case Reason::none:
       break;
   }
@@ -124,6 +145,19 @@ StereoCamera StereoCamera::from_physical(double interocular, double screen_width
   // A bad screen width or interocular gives a NaN separation, so parallax() refuses it.
   const bool ok = std::isfinite(screen_width) && screen_width > 0.0 && std::isfinite(interocular) && interocular >= 0.0;
   camera.separation = ok ? interocular / screen_width : std::numeric_limits<double>::quiet_NaN();
+  camera.convergence = convergence;
+  return camera;
+}
+
+// The eyes' frusta meet at the convergence plane, whose visible width is 2 c tan(fov / 2); the
+// interaxial over that width is S (eye_translation, below, is the inverse: T = interaxial / 2).
+StereoCamera StereoCamera::from_rig(double interaxial, double convergence, double horizontal_fov) noexcept {
+  StereoCamera camera;
+  constexpr double kPi = 3.14159265358979323846;
+  const bool ok = std::isfinite(interaxial) && interaxial >= 0.0 && std::isfinite(convergence) && convergence > 0.0 &&
+                  horizontal_fov > 0.0 && horizontal_fov < kPi;
+  camera.separation = ok ? interaxial / (2.0 * convergence * std::tan(0.5 * horizontal_fov))
+                         : std::numeric_limits<double>::quiet_NaN();
   camera.convergence = convergence;
   return camera;
 }

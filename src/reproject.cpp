@@ -72,16 +72,14 @@ Status reproject_with(const KernelTable& kernels, const SourceView& source, cons
 
 Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                  const Options& options, const TargetView& target) noexcept {
-  Status status = check_options(options);
-  if (!status.ok()) return status;
+  if (Status status = check_options(options); !status.ok()) return status;
   return reproject_one(kernels_for(options), source, decoder, model, options, target, nullptr);
 }
 
 Status reproject(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                  const Options& options, const TargetView& target, const ParallelFor& jobs) noexcept {
-  Status status = check_jobs(jobs);
-  if (!status.ok()) return status;
-  if (!(status = check_options(options)).ok()) return status;
+  if (Status status = check_jobs(jobs); !status.ok()) return status;
+  if (Status status = check_options(options); !status.ok()) return status;
   return reproject_one(kernels_for(options), source, decoder, model, options, target, &jobs);
 }
 
@@ -93,8 +91,7 @@ Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder, con
 Status reproject_pair(const SourceView& centre, const DepthDecoder& decoder, const ParallaxModel& centre_to_right,
                       const Options& options, const TargetView& left, const TargetView& right,
                       const ParallelFor& jobs) noexcept {
-  const Status status = check_jobs(jobs);
-  if (!status.ok()) return status;
+  if (Status status = check_jobs(jobs); !status.ok()) return status;
   return reproject_two(centre, decoder, centre_to_right, options, left, right, &jobs);
 }
 

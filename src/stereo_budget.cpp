@@ -35,10 +35,9 @@ Status parallax_budget(const FloatPlane& depth, const DepthDecoder& decoder, con
                        const BudgetOptions& options, ParallaxBudget* out, std::int64_t* histogram) noexcept {
   const char* fn = "parallax_budget";
   if (out == nullptr) return Status(StatusCode::null_pointer, "%s: null output", fn);
-  Status status = check_plane(depth, fn, "depth");
-  if (!status.ok()) return status;
-  if (!(status = check_depth_decoder(decoder, fn)).ok()) return status;
-  if (!(status = check_camera(camera, fn)).ok()) return status;
+  if (Status status = check_plane(depth, fn, "depth"); !status.ok()) return status;
+  if (Status status = check_depth_decoder(decoder, fn); !status.ok()) return status;
+  if (Status status = check_camera(camera, fn); !status.ok()) return status;
 
   if (options.display_width < 0)
     return Status(StatusCode::invalid_option, "%s: display width %d must be >= 0 (0: the depth width)", fn,

@@ -22,8 +22,7 @@ Status check_camera(const StereoCamera& camera, const char* function) noexcept {
 }
 
 Status check_depth_decoder(const DepthDecoder& decoder, const char* function) noexcept {
-  const Status status = in_function(function, decoder.validate());
-  if (!status.ok()) return status;
+  if (Status status = in_function(function, decoder.validate()); !status.ok()) return status;
   if (decoder.encoding() == DepthEncoding::disparity)
     return Status(StatusCode::invalid_decoder, "%s: needs a depth encoding, not disparity (w = d is no inverse depth)",
                   function);

@@ -18,12 +18,11 @@ using detail::planes_overlap;
 Status dilate_nearer_depth(const FloatPlane& depth, const DepthDecoder& decoder, int radius,
                            const MutableFloatPlane& out) noexcept {
   const char* fn = "dilate_nearer_depth";
-  Status status = check_plane(depth, fn, "depth");
-  if (!status.ok()) return status;
-  if (!(status = check_plane(out, fn, "output")).ok()) return status;
-  if (!(status = check_same_size(out, depth, fn, "output", "depth")).ok()) return status;
+  if (Status status = check_plane(depth, fn, "depth"); !status.ok()) return status;
+  if (Status status = check_plane(out, fn, "output"); !status.ok()) return status;
+  if (Status status = check_same_size(out, depth, fn, "output", "depth"); !status.ok()) return status;
   if (planes_overlap(out, depth)) return Status(StatusCode::aliasing, "%s: output overlaps the depth", fn);
-  if (!(status = in_function(fn, decoder.validate())).ok()) return status;
+  if (Status status = in_function(fn, decoder.validate()); !status.ok()) return status;
   if (radius < 0) return Status(StatusCode::invalid_option, "%s: radius %d must be >= 0", fn, radius);
 
   const int width = depth.width;

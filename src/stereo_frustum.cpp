@@ -56,12 +56,11 @@ bool CullingFrustum::contains(double x, double y, double z, double slack) const 
 Status stereo_culling_frustum(const ViewFrustum& mono, const StereoCamera& camera, CullingFrustum* out) noexcept {
   const char* fn = "stereo_culling_frustum";
   if (out == nullptr) return Status(StatusCode::null_pointer, "%s: null output", fn);
-  Status status = in_function(fn, mono.validate());
-  if (!status.ok()) return status;
+  if (Status status = in_function(fn, mono.validate()); !status.ok()) return status;
   if (mono.orthographic)
     return Status(StatusCode::invalid_option, "%s: needs a perspective frustum (stereo eyes do not shear an "
                   "orthographic one)", fn);
-  if (!(status = check_camera(camera, fn)).ok()) return status;
+  if (Status status = check_camera(camera, fn); !status.ok()) return status;
 
   const double S = camera.separation, c = camera.convergence, n = mono.near_plane, f = mono.far_plane;
   // Edge tangents of the mono frustum (x / z along each edge) and its half-width h: the eye with

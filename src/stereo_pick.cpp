@@ -123,15 +123,14 @@ Status pick(const FloatPlane& left_depth, const FloatPlane& right_depth, const D
             PickResult* out) noexcept {
   const char* fn = "pick";
   if (out == nullptr) return Status(StatusCode::null_pointer, "%s: null output", fn);
-  Status status = check_plane(left_depth, fn, "left depth");
-  if (!status.ok()) return status;
-  if (!(status = check_plane(right_depth, fn, "right depth")).ok()) return status;
-  if (!(status = check_same_size(right_depth, left_depth, fn, "right depth", "left depth")).ok()) return status;
+  if (Status status = check_plane(left_depth, fn, "left depth"); !status.ok()) return status;
+  if (Status status = check_plane(right_depth, fn, "right depth"); !status.ok()) return status;
+  if (Status status = check_same_size(right_depth, left_depth, fn, "right depth", "left depth"); !status.ok()) return status;
   if (left_depth.width < 1 || left_depth.height < 1)
     return Status(StatusCode::invalid_size, "%s: depth planes are %dx%d: nothing to pick from", fn, left_depth.width,
                   left_depth.height);
-  if (!(status = in_function(fn, decoder.validate())).ok()) return status;
-  if (!(status = in_function(fn, left_to_right.validate())).ok()) return status;
+  if (Status status = in_function(fn, decoder.validate()); !status.ok()) return status;
+  if (Status status = in_function(fn, left_to_right.validate()); !status.ok()) return status;
   if (left_to_right.b == 0.0f)
     return Status(StatusCode::invalid_model, "%s: b = 0: parallax does not depend on depth, so nothing can be picked",
                   fn);

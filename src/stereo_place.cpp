@@ -19,9 +19,8 @@ Status place_at_depth(double ndc_x, double ndc_y, double z, const StereoCamera& 
     return Status(StatusCode::invalid_option, "%s: position (%g, %g) is not finite", fn, ndc_x, ndc_y);
   if (std::isnan(z) || !(z > 0.0))
     return Status(StatusCode::invalid_option, "%s: depth %g must be > 0 (+inf allowed)", fn, z);
-  Status status = check_camera(camera, fn);
-  if (!status.ok()) return status;
-  if (!(status = check_depth_decoder(decoder, fn)).ok()) return status;
+  if (Status status = check_camera(camera, fn); !status.ok()) return status;
+  if (Status status = check_depth_decoder(decoder, fn); !status.ok()) return status;
 
   // DESIGN §4: clip.x += side S (clip.w - c) at clip.w = z, then divided by w. At z = +inf, c/z = 0.
   const double shift = camera.separation * (1.0 - camera.convergence / z);

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "kernels/fma.hpp"
 #include "src/stereo_checks.hpp"
 
 namespace reproject {
@@ -15,13 +16,13 @@ using detail::planes_overlap;
 ViewPoint ScreenToView::at_pixel(float pixel_x, float pixel_y, float stored) const noexcept {
   // (l + u (r - l)) / n as one fused multiply-add on the pixel coordinate (u = (pixel + 0.5) / width
   // is folded into the bias), then one division by w: three roundings from the stored value to x.
-  const float sx = std::fma(pixel_x, x_scale, x_bias);
-  const float sy = std::fma(pixel_y, y_scale, y_bias);
+  const float sx = detail::fused_madd(pixel_x, x_scale, x_bias);
+  const float sy = detail::fused_madd(pixel_y, y_scale, y_bias);
   ViewPoint p;
   if (orthographic) {
     p.x = sx;
     p.y = sy;
-    p.z = std::fma(stored, z_scale, z_bias);
+    p.z = detail::fused_madd(stored, z_scale, z_bias);
   } else if (decoder.is_affine()) {
     const float w = decoder.inverse_depth(stored);
     p.x = sx / w;
@@ -39,8 +40,7 @@ Status make_screen_to_view(const ViewFrustum& frustum, DepthEncoding encoding, i
                            ScreenToView* out) noexcept {
   const char* fn = "make_screen_to_view";
   if (out == nullptr) return Status(StatusCode::null_pointer, "%s: null output", fn);
-  Status status = in_function(fn, frustum.validate());
-  if (!status.ok()) return status;
+  if (Status status = in_function(fn, frustum.validate()); !status.ok()) return status;
   if (width < 1 || height < 1)
     return Status(StatusCode::invalid_size, "%s: viewport %dx%d must be at least 1x1", fn, width, height);
   const double l = frustum.left, r = frustum.right, b = frustum.bottom, t = frustum.top;
@@ -89,8 +89,7 @@ Status make_screen_to_view(const ViewFrustum& frustum, DepthEncoding encoding, i
     if (encoding == DepthEncoding::disparity)
       return Status(StatusCode::invalid_decoder, "%s: a disparity map gives no view-space depth", fn);
     rec.decoder = DepthDecoder::from_near_far(encoding, n, f);
-    status = in_function(fn, rec.decoder.validate());
-    if (!status.ok()) return status;
+    if (Status status = in_function(fn, rec.decoder.validate()); !status.ok()) return status;
   }
   if (!std::isfinite(rec.x_scale) || !std::isfinite(rec.x_bias) || !std::isfinite(rec.y_scale) ||
       !std::isfinite(rec.y_bias) || rec.x_scale == 0.0f || rec.y_scale == 0.0f)
@@ -102,24 +101,24 @@ Status make_screen_to_view(const ViewFrustum& frustum, DepthEncoding encoding, i
 Status screen_to_view(const ScreenToView& reconstruction, const FloatPlane& depth, const MutableFloatPlane& x,
                       const MutableFloatPlane& y, const MutableFloatPlane& z) noexcept {
   const char* fn = "screen_to_view";
-  Status status = check_plane(depth, fn, "depth");
-  if (!status.ok()) return status;
+  if (Status status = check_plane(depth, fn, "depth"); !status.ok()) return status;
   if (depth.width != reconstruction.width || depth.height != reconstruction.height)
     return Status(StatusCode::size_mismatch, "%s: depth is %dx%d, the reconstruction was made for %dx%d", fn,
                   depth.width, depth.height, reconstruction.width, reconstruction.height);
   const MutableFloatPlane* outputs[3] = {&x, &y, &z};
   static const char* const kNames[3] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {
-    if (!(status = check_plane(*outputs[i], fn, kNames[i])).ok()) return status;
-    if (!(status = check_same_size(*outputs[i], depth, fn, kNames[i], "depth")).ok()) return status;
+    if (Status status = check_plane(*outputs[i], fn, kNames[i]); !status.ok()) return status;
+    if (Status status = check_same_size(*outputs[i], depth, fn, kNames[i], "depth"); !status.ok()) return status;
     if (planes_overlap(*outputs[i], depth))
       return Status(StatusCode::aliasing, "%s: output %s overlaps the depth", fn, kNames[i]);
     for (int j = 0; j < i; ++j)
       if (planes_overlap(*outputs[i], *outputs[j]))
         return Status(StatusCode::aliasing, "%s: outputs %s and %s overlap", fn, kNames[j], kNames[i]);
   }
-  if (!reconstruction.orthographic && !(status = in_function(fn, reconstruction.decoder.validate())).ok())
-    return status;
+  if (!reconstruction.orthographic) {
+    if (Status status = in_function(fn, reconstruction.decoder.validate()); !status.ok()) return status;
+  }
   for (int row = 0; row < depth.height; ++row) {
     const float* d = depth.row(row);
     float* xr = x.row(row);

@@ -12,8 +12,8 @@
 // and when a call asks for more threads than the pool has (Options::threads > hardware threads
 // grows it, up to kMaxThreads).
 //
-// The whole pool is in this header, included by src/reproject.cpp only: the library's source
-// list (top-level CMakeLists.txt) needs no new entry. `inline` keeps a single pool per program
+// The whole pool is in this header, included by src/bands.cpp only (the rows over threads): the
+// library's source list (top-level CMakeLists.txt) needs no new entry. `inline` keeps a single pool per program
 // even if another translation unit includes it.
 #pragma once
 

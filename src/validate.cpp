@@ -32,7 +32,7 @@ NamedView named(const DepthBufferT<Byte>& depth, const char* name) {
   return named(PlaneView<Byte>{depth.data, depth.width, depth.height, depth.stride}, bytes_per_pixel(depth.format), name);
 }
 template <class T>
-int colour_views(const ColorViewT<T>& color, NamedView* out, const char* name) {
+int color_views(const ColorViewT<T>& color, NamedView* out, const char* name) {
   if (color.format != ColorFormat::float32) {
     out[0] = named(color.pixels, bytes_per_pixel(color.format), name);
     return 1;
@@ -76,16 +76,16 @@ Status check_color(const ColorViewT<T>& color, int width, int height, const char
     if (!interleaved || color.channels != 4)
       return Status(StatusCode::size_mismatch, "%s: %s is interleaved RGBA (4 channels); this view says %d %s", name,
                     to_string(color.format), color.channels, interleaved ? "interleaved" : "planar");
-    const Status status = check_plane(color.pixels, width, height, bytes_per_pixel(color.format), "pixels", "bytes");
-    if (!status.ok()) return Status(status.code(), "%s %s %s", name, to_string(color.format), status.message());
+    if (Status status = check_plane(color.pixels, width, height, bytes_per_pixel(color.format), "pixels", "bytes"); !status.ok())
+      return Status(status.code(), "%s %s %s", name, to_string(color.format), status.message());
     return Status();
   }
   if (interleaved ? color.channels != 4 : (color.channels < 1 || color.channels > 4))
     return Status(StatusCode::size_mismatch, "%s: %d channels (planar takes 1..4, interleaved RGBA 4)", name, color.channels);
   static const char* const kPlaneNames[4] = {"plane 0", "plane 1", "plane 2", "plane 3"};
   for (int c = 0; c < (interleaved ? 1 : color.channels); ++c) {
-    const Status status = check_plane(color.plane[c], width, height, interleaved ? 4 : 1, kPlaneNames[c]);
-    if (!status.ok()) return Status(status.code(), "%s %s", name, status.message());
+    if (Status status = check_plane(color.plane[c], width, height, interleaved ? 4 : 1, kPlaneNames[c]); !status.ok())
+      return Status(status.code(), "%s %s", name, status.message());
   }
   return Status();
 }
@@ -98,8 +98,8 @@ Status check_depth_buffer(const DepthBufferT<Byte>& depth, int width, int height
   if (static_cast<unsigned>(depth.format) >= static_cast<unsigned>(kDepthFormatCount))
     return Status(StatusCode::invalid_option, "%s: unknown depth format %d", name, static_cast<int>(depth.format));
   const PlaneView<Byte> bytes{depth.data, depth.width, depth.height, depth.stride};
-  Status status = check_plane(bytes, width, height, bytes_per_pixel(depth.format), name, "bytes");
-  if (!status.ok()) return Status(status.code(), "%s (%s)", status.message(), to_string(depth.format));
+  if (Status status = check_plane(bytes, width, height, bytes_per_pixel(depth.format), name, "bytes"); !status.ok())
+    return Status(status.code(), "%s (%s)", status.message(), to_string(depth.format));
   if (depth.format == DepthFormat::float32 &&
       (reinterpret_cast<std::uintptr_t>(depth.data) % alignof(float) != 0 || depth.stride % 4 != 0))
     return Status(StatusCode::invalid_stride, "%s: float32 depth rows must start on 4-byte boundaries (data 0x%llx, stride %td bytes)",
@@ -171,14 +171,11 @@ Status check_unused_depth(const SourceView& source) {
 // Everything but the target: the decoder, the model, the options and the source.
 Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                     const Options& options) {
-  Status status = decoder.validate();
-  if (!status.ok()) return status;
-  status = model.validate();
-  if (!status.ok()) return status;
-  status = check_options(options);
-  if (!status.ok()) return status;
-  if (!(status = check_one_depth(source, "source")).ok()) return status;
-  if (!(status = check_unused_depth(source)).ok()) return status;
+  if (Status status = decoder.validate(); !status.ok()) return status;
+  if (Status status = model.validate(); !status.ok()) return status;
+  if (Status status = check_options(options); !status.ok()) return status;
+  if (Status status = check_one_depth(source, "source"); !status.ok()) return status;
+  if (Status status = check_unused_depth(source); !status.ok()) return status;
   const Size depth = depth_size(source);
   if (depth.width < 0 || depth.height < 0)
     return Status(StatusCode::invalid_size, "source depth: negative size %dx%d", depth.width, depth.height);
@@ -193,14 +190,12 @@ Status check_inputs(const SourceView& source, const DepthDecoder& decoder, const
                     "for a %dx%d colour", color_width, color_height);
     return Status();
   }
-  if (source.depth_buffer.data == nullptr) {
-    status = check_plane(source.depth, depth.width, depth.height, 1, "source depth");
-  } else {
-    status = check_depth_buffer(source.depth_buffer, depth.width, depth.height, "source depth_buffer");
-  }
-  if (!status.ok()) return status;
-  status = check_color(source.color, depth.width, depth.height, "source colour");
-  if (!status.ok()) return status;
+  if (Status status = source.depth_buffer.data == nullptr
+                          ? check_plane(source.depth, depth.width, depth.height, 1, "source depth")
+                          : check_depth_buffer(source.depth_buffer, depth.width, depth.height, "source depth_buffer");
+      !status.ok())
+    return status;
+  if (Status status = check_color(source.color, depth.width, depth.height, "source colour"); !status.ok()) return status;
   if (depth.width - 2 * static_cast<long long>(options.guard) < 1)
     return Status(StatusCode::invalid_size, "guard: %d columns on each side leave no target columns of a %d-wide source",
                   options.guard, depth.width);
@@ -218,8 +213,7 @@ Status check_target(const SourceView& source, const Options& options, const Targ
   const DepthFormat depth_format = source_depth_format(source);
   char label[64];
   std::snprintf(label, sizeof label, "%s colour", name);
-  Status status = check_color(target.color, width, height, label);
-  if (!status.ok()) return status;
+  if (Status status = check_color(target.color, width, height, label); !status.ok()) return status;
   if (target.color.format != source.color.format)
     return Status(StatusCode::size_mismatch, "%s: format %s, the source's is %s", label, to_string(target.color.format),
                   to_string(source.color.format));
@@ -227,28 +221,28 @@ Status check_target(const SourceView& source, const Options& options, const Targ
     return Status(StatusCode::size_mismatch, "%s: %d channels %s, the source has %d %s", label, target.color.channels,
                   target.color.layout == ColorLayout::planar ? "planar" : "interleaved",
                   source.color.channels, source.color.layout == ColorLayout::planar ? "planar" : "interleaved");
-  if (!(status = check_one_depth(target, name)).ok()) return status;
+  if (Status status = check_one_depth(target, name); !status.ok()) return status;
   if (target.depth.data) {
     std::snprintf(label, sizeof label, "%s depth", name);
     if (depth_format != DepthFormat::float32)
       return Status(StatusCode::size_mismatch, "%s: a float plane, but the source depth is %s: output depth goes to "
                     "depth_buffer in the source's format", label, to_string(depth_format));
-    if (!(status = check_plane(target.depth, width, height, 1, label)).ok()) return status;
+    if (Status status = check_plane(target.depth, width, height, 1, label); !status.ok()) return status;
   }
   if (target.depth_buffer.data) {
     std::snprintf(label, sizeof label, "%s depth_buffer", name);
     if (target.depth_buffer.format != depth_format)
       return Status(StatusCode::size_mismatch, "%s: format %s, the source depth is %s", label,
                     to_string(target.depth_buffer.format), to_string(depth_format));
-    if (!(status = check_depth_buffer(target.depth_buffer, width, height, label)).ok()) return status;
+    if (Status status = check_depth_buffer(target.depth_buffer, width, height, label); !status.ok()) return status;
   }
   if (target.status.data) {
     std::snprintf(label, sizeof label, "%s status", name);
-    if (!(status = check_plane(target.status, width, height, 1, label)).ok()) return status;
+    if (Status status = check_plane(target.status, width, height, 1, label); !status.ok()) return status;
   }
   if (target.source_x.data) {
     std::snprintf(label, sizeof label, "%s source_x", name);
-    if (!(status = check_plane(target.source_x, width, height, 1, label)).ok()) return status;
+    if (Status status = check_plane(target.source_x, width, height, 1, label); !status.ok()) return status;
   }
   return Status();
 }
@@ -261,7 +255,7 @@ Status check_aliasing(const SourceView& source, const TargetView* const* targets
   int input_count = 0;
   inputs[input_count++] = source.depth_buffer.data != nullptr ? named(source.depth_buffer, "source depth_buffer")
                                                               : named(source.depth, 1, "source depth");
-  input_count += colour_views(source.color, inputs + input_count, "source colour");
+  input_count += color_views(source.color, inputs + input_count, "source colour");
 
   // Per target: its name and the names of its outputs, for the messages.
   char labels[2][4][32];
@@ -271,7 +265,7 @@ Status check_aliasing(const SourceView& source, const TargetView* const* targets
     const TargetView& target = *targets[i];
     static const char* const kFields[4] = {"colour", "depth", "status", "source_x"};
     for (int f = 0; f < 4; ++f) std::snprintf(labels[i][f], sizeof labels[i][f], "%s %s", names[i], kFields[f]);
-    output_count += colour_views(target.color, outputs + output_count, labels[i][0]);
+    output_count += color_views(target.color, outputs + output_count, labels[i][0]);
     outputs[output_count++] = target.depth_buffer.data != nullptr ? named(target.depth_buffer, labels[i][1])
                                                                   : named(target.depth, 1, labels[i][1]);
     outputs[output_count++] = named(target.status, 1, labels[i][2]);
@@ -321,18 +315,17 @@ TargetView normalised_target(const TargetView& target) {
 Status check_call(const SourceView& source, const DepthDecoder& decoder, const ParallaxModel& model,
                   const Options& options, const TargetView* const* targets, const char* const* names, int target_count,
                   CallViews* views) {
-  Status status = check_inputs(source, decoder, model, options);
-  if (!status.ok()) return status;
+  if (Status status = check_inputs(source, decoder, model, options); !status.ok()) return status;
   const Size size = depth_size(source);
   views->empty = size.width == 0 || size.height == 0;
-  if (views->empty) return status;
+  if (views->empty) return Status();
   for (int i = 0; i < target_count; ++i)
-    if (!(status = check_target(source, options, *targets[i], names[i])).ok()) return status;
-  if (!(status = check_aliasing(source, targets, names, target_count)).ok()) return status;
+    if (Status status = check_target(source, options, *targets[i], names[i]); !status.ok()) return status;
+  if (Status status = check_aliasing(source, targets, names, target_count); !status.ok()) return status;
   views->source = normalised_source(source);
   views->target_count = target_count;
   for (int i = 0; i < target_count; ++i) views->targets[i] = normalised_target(*targets[i]);
-  return status;
+  return Status();
 }
 
 }  // namespace detail

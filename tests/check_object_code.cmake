@@ -13,7 +13,9 @@
 #                    (tbl/tbx) in the column fetch that reads every format's pixels, no call into
 #                    libm and none into xsimd at all (its neon wrappers are out of line there).
 # Every policy: no out-of-line call into one of xsimd's generic fallbacks (a kernel of the
-# `generic` architecture, which the compiler did not inline).
+# `generic` architecture, which the compiler did not inline), and no thread-local access
+# (fs-relative on x86, tpidr_el0 on AArch64): the kernels keep no per-thread state, and test
+# counters stay in the tests' own copies of the tables (kernels/simd.hpp, NoFetchTally).
 cmake_policy(SET CMP0007 NEW)
 foreach(var OBJDUMP OBJECTS EXPECT)
   if(NOT DEFINED ${var})
@@ -89,6 +91,10 @@ list(LENGTH estimates estimate_count)
 string(REGEX MATCHALL "(${call_relocations})[\t ]+_ZN5xsimd[^\n]*" xsimd_calls "${listing}")
 list(LENGTH xsimd_calls xsimd_count)
 
+# Thread-local storage: x86-64 reaches it through %fs, AArch64 through the thread pointer register.
+string(REGEX MATCHALL "%fs:[^\n]*|tpidr_el0[^\n]*" tls_accesses "${listing}")
+list(LENGTH tls_accesses tls_count)
+
 string(REPLACE ";" ", " name "${names}")
 if(libm_count GREATER 0)
   list(REMOVE_DUPLICATES libm_calls)
@@ -99,6 +105,11 @@ if(generic_count GREATER 0)
   list(REMOVE_DUPLICATES generic_calls)
   string(REPLACE ";" "\n  " shown "${generic_calls}")
   message(FATAL_ERROR "${name}: ${generic_count} calls into xsimd's generic fallbacks:\n  ${shown}")
+endif()
+if(tls_count GREATER 0)
+  list(GET tls_accesses 0 first)
+  message(FATAL_ERROR "${name}: ${tls_count} thread-local accesses (first: ${first}): a counter or other per-thread "
+                      "state in the kernels")
 endif()
 if(EXPECT STREQUAL "unfused")
   if(fma_count GREATER 0)

@@ -126,10 +126,10 @@ struct Buffers {
     return view;
   }
   TargetView target(int which) {
-    std::vector<float>& colour = which == 0 ? out_color : out_color2;
+    std::vector<float>& color = which == 0 ? out_color : out_color2;
     TargetView view;
     for (int c = 0; c < 3; ++c)
-      view.color.plane[c] = MutableFloatPlane{colour.data() + static_cast<std::size_t>(c) * width * height, width, height, width};
+      view.color.plane[c] = MutableFloatPlane{color.data() + static_cast<std::size_t>(c) * width * height, width, height, width};
     view.color.channels = 3;
     view.depth = MutableFloatPlane{(which == 0 ? out_depth : out_depth2).data(), width, height, width};
     view.status = BytePlane{(which == 0 ? out_status : out_status2).data(), width, height, width};
@@ -278,22 +278,22 @@ TEST(Allocations, SecondCallAllocatesNothing) {
 // keeps in the row scratch) and RGBA16F with D24S8: after a first call, nothing.
 TEST(Allocations, EngineFormatsSecondCallAllocatesNothing) {
   const int width = 640, height = 120;
-  std::vector<std::uint8_t> colour(static_cast<std::size_t>(width) * height * 8, 0x40), out(colour.size());
+  std::vector<std::uint8_t> color(static_cast<std::size_t>(width) * height * 8, 0x40), out(color.size());
   std::vector<std::uint8_t> depth(static_cast<std::size_t>(width) * height * 4), depth_out(depth.size());
   for (std::size_t i = 0; i < depth.size(); ++i) depth[i] = static_cast<std::uint8_t>(i * 37 % 251);
   const DepthDecoder decoder = DepthDecoder::from_near_far(DepthEncoding::standard, 0.5, 50.0);
   struct Pair {
-    ColorFormat colour;
+    ColorFormat color;
     DepthFormat depth;
   };
   for (const Pair& p : {Pair{ColorFormat::rgba8_srgb, DepthFormat::unorm16}, Pair{ColorFormat::rgba16f, DepthFormat::unorm24_s8}}) {
-    const std::ptrdiff_t cpitch = static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(p.colour);
+    const std::ptrdiff_t cpitch = static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(p.color);
     const std::ptrdiff_t dpitch = static_cast<std::ptrdiff_t>(width) * bytes_per_pixel(p.depth);
     SourceView source;
-    source.color = ColorView::packed(p.colour, colour.data(), width, height, cpitch);
+    source.color = ColorView::packed(p.color, color.data(), width, height, cpitch);
     source.depth_buffer = DepthBuffer::of(p.depth, depth.data(), width, height, dpitch);
     TargetView target;
-    target.color = MutableColorView::packed(p.colour, out.data(), width, height, cpitch);
+    target.color = MutableColorView::packed(p.color, out.data(), width, height, cpitch);
     target.depth_buffer = MutableDepthBuffer::of(p.depth, depth_out.data(), width, height, dpitch);
     for (Method method : kMethods) {
       for (int threads : {1, 2}) {
@@ -305,7 +305,7 @@ TEST(Allocations, EngineFormatsSecondCallAllocatesNothing) {
         const long warm_up = count_allocations(call);
         ASSERT_TRUE(status.ok()) << status.message();
         const long second = count_allocations(call);
-        std::printf("%s+%s %-8s threads %d: warm-up %3ld allocations, second call %ld\n", to_string(p.colour),
+        std::printf("%s+%s %-8s threads %d: warm-up %3ld allocations, second call %ld\n", to_string(p.color),
                     to_string(p.depth), to_string(method), threads, warm_up, second);
         EXPECT_EQ(second, 0);
       }

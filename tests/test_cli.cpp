@@ -444,7 +444,7 @@ TEST(CliScenes, FeaturesMatchTheDefaultScene) {
     rs::View a, b;
     ASSERT_TRUE(scene.render(cam, &a).ok());
     ASSERT_TRUE(room.render(cam, &b).ok());
-    long same_object = 0, same_colour = 0;
+    long same_object = 0, same_color = 0;
     for (int y = 0; y < cam.height; ++y) {
       for (int x = 0; x < cam.width; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * cam.width + x;
@@ -452,11 +452,11 @@ TEST(CliScenes, FeaturesMatchTheDefaultScene) {
         ++same_object;
         bool equal = at(a.depth, 0, x, y) == at(b.depth, 0, x, y);
         for (int c = 0; c < 3; ++c) equal = equal && at(a.color, c, x, y) == at(b.color, c, x, y);
-        same_colour += equal;
+        same_color += equal;
       }
     }
     EXPECT_GT(same_object, cam.width * cam.height / 4);
-    EXPECT_EQ(same_colour, same_object);
+    EXPECT_EQ(same_color, same_object);
   }
   {
     const rs::Scene scene = rs::Scene::make(rs::SceneId::near);
@@ -1092,6 +1092,59 @@ void expect_error(const std::string& args, int code, const std::string& message)
 
 }  // namespace
 
+// A renderer's rig: --interaxial D --fov DEG is --separation D / (2 C tan(fov / 2)), to the bit.
+TEST(CliWarp, RigFlagsAreTheSeparationTheyImply) {
+  ensure_room();
+  const double interaxial = 0.03 * 2.0 * 3.5 * std::tan(30.0 * 3.14159265358979323846 / 180.0);
+  char rig[128];
+  std::snprintf(rig, sizeof rig, " --interaxial %.17g --fov 60", interaxial);
+  const std::string flags =
+      "--color room/centre.png --depth room/centre_depth.pfm --encoding standard --near 1 --far 20 --convergence 3.5";
+  const CliRun r = run("warp " + flags + rig + " --out rig.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const CliRun s = run("warp " + flags + " --separation 0.03 --out rig-s.png");
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_TRUE(identical(read_color("rig.png"), read_color("rig-s.png")));
+  const CliRun p = run("pair " + flags + rig + " --out-left rig-l.png");
+  ASSERT_EQ(p.code, 0) << p.err;
+  EXPECT_GE(psnr(read_color("rig-l.png"), read_color("room/left.png"), read_color("room/left_visible.png")), 34.0);
+  expect_error("warp " + flags + " --fov 60 --out x.png", 2, "--fov needs --interaxial D");
+  expect_error("warp " + flags + " --interaxial 0.1 --out x.png", 2, "--interaxial needs --fov DEG");
+  expect_error("warp " + flags + rig + " --separation 0.03 --out x.png", 2, "--separation cannot be used with --interaxial");
+  expect_error("warp " + flags + " --interaxial 0.1 --fov 180 --out x.png", 2, "--fov: '180' is not below 180");
+}
+
+// --relative-depth: a 16-bit PNG of relative inverse depth is read as code / 65535, and the
+// parallax is sigma D W (z0 - v): v = 1, z0 = 0.75, D W = 12 px moves the nearest value by -3 px.
+TEST(CliWarp, RelativeDepthMovesByItsShareOfTheMaximum) {
+  ensure_room();
+  Image v(kW, kH, 1);
+  for (int y = 0; y < kH; ++y) std::fill_n(v.plane_data() + y * v.stride(), kW, 65535.0f);
+  ASSERT_TRUE(reproject::io::write_png(path("relative16.png"), v.color(), 16).ok());
+  const std::string flags = "--color room/centre.png --depth relative16.png --relative-depth --max-parallax 0.0125 "
+                            "--zero-plane 0.75";
+  const CliRun r = run("warp " + flags + " --direction left-to-right --out relative.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Image src = read_color("room/centre.png"), out = read_color("relative.png");
+  for (int y = 0; y < kH; y += 7) {
+    for (int x = 0; x + 3 < kW; ++x) ASSERT_EQ(at(out, 1, x, y), at(src, 1, x + 3, y)) << x << "," << y;
+  }
+  // Both eyes from the centre: each moved by half, in opposite directions.
+  const CliRun p = run("pair " + flags + " --out-left relative-l.png --out-right relative-r.png");
+  ASSERT_EQ(p.code, 0) << p.err;
+  const Image left = read_color("relative-l.png"), right = read_color("relative-r.png");
+  for (int x = 2; x + 2 < kW; ++x) {
+    ASSERT_NEAR(at(right, 1, x, 100), 0.5f * (at(src, 1, x + 1, 100) + at(src, 1, x + 2, 100)), 1.0f) << x;  // one code
+    ASSERT_NEAR(at(left, 1, x, 100), 0.5f * (at(src, 1, x - 1, 100) + at(src, 1, x - 2, 100)), 1.0f) << x;
+  }
+  expect_error("warp " + flags + " --encoding linear --out x.png", 2, "--encoding cannot be used with --relative-depth");
+  expect_error("warp " + flags + " --convergence 3 --out x.png", 2, "--convergence cannot be used with --relative-depth");
+  expect_error("warp --color room/centre.png --depth relative16.png --encoding linear --convergence 3 --zero-plane 0.5 "
+               "--out x.png", 2, "--zero-plane needs --relative-depth");
+  expect_error("warp " + std::string("--color room/centre.png --depth relative16.png --relative-depth --zero-plane 2 "
+                                     "--out x.png"), 2, "--zero-plane: '2' is not in 0 .. 1");
+}
+
 TEST(CliErrors, Usage) {
   ensure_room();
   const std::string warp = std::string("warp ") + kWarpFlags;
@@ -1624,15 +1677,15 @@ void ensure_half_exr() {
   static bool done = false;
   if (done) return;
   ensure_room();
-  Image colour = read_color("room/centre.png");
+  Image color = read_color("room/centre.png");
   for (int c = 0; c < 3; ++c) {
     for (int y = 0; y < kH; ++y) {
-      for (int x = 0; x < kW; ++x) colour.plane_data(c)[y * colour.stride() + x] /= 255.0f;
+      for (int x = 0; x < kW; ++x) color.plane_data(c)[y * color.stride() + x] /= 255.0f;
     }
   }
   reproject::io::ExrWriteOptions options;
   options.color_type = reproject::io::ExrPixelType::half;
-  ASSERT_TRUE(reproject::io::write_exr(path("centre-half.exr"), colour.color(), nullptr, options).ok());
+  ASSERT_TRUE(reproject::io::write_exr(path("centre-half.exr"), color.color(), nullptr, options).ok());
   done = true;
 }
 
@@ -1890,12 +1943,12 @@ TEST(CliRaw, PackedLinearDepthMatchesFloatDepth) {
   ASSERT_EQ(f.code, 0) << f.err;
   EXPECT_TRUE(contains(r.out, "depth rgba8_packed_linear (raw)")) << r.out;
   const Difference status = difference(read_color("packed-raw-s.png"), read_color("packed-flt-s.png"), 1);
-  const Difference colour = difference(read_color("packed-raw.png"), read_color("packed-flt.png"), 3);
+  const Difference color = difference(read_color("packed-raw.png"), read_color("packed-flt.png"), 3);
   const Difference depth = difference(read_plane("packed-raw-d.pfm"), read_plane("packed-flt-d.pfm"), 1);
   std::printf("[ raw      ] rgba8_packed_linear: %ld status differ, colour max %g LSB, depth max %g\n", status.differing,
-              colour.max, depth.max);
+              color.max, depth.max);
   EXPECT_EQ(status.differing, 0);
-  EXPECT_LE(colour.max, 1.0);
+  EXPECT_LE(color.max, 1.0);
   EXPECT_LE(depth.max, 19.0 / 16581375.0 * 2.0);  // within the packing's step, twice
 }
 

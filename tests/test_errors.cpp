@@ -146,7 +146,7 @@ TEST(BadInputBaseline, TheUnbrokenSetupsAreValid) {
   }
 }
 
-TEST(BadInputPointers, NullColourOrDepth) {
+TEST(BadInputPointers, NullColorOrDepth) {
   {
     Call s;
     s.sv.color.plane[0].data = nullptr;
@@ -553,7 +553,7 @@ TEST(BadInputEmpty, ZeroWidthOrHeightIsOkAndWritesNothing) {
 Encoding linear_encoding() { return {DepthEncoding::linear, 0.0, 0.0}; }
 Encoding standard_encoding() { return {DepthEncoding::standard, 0.2, 100.0}; }
 
-bool same_colour_status_x(const RunResult& a, const RunResult& b, std::string* why) {
+bool same_color_status_x(const RunResult& a, const RunResult& b, std::string* why) {
   for (int y = 0; y < a.out.height; ++y)
     for (int t = 0; t < a.out.width; ++t) {
       if (!(a.out.x_at(t, y) == b.out.x_at(t, y))) {
@@ -614,7 +614,7 @@ TEST(BadInputDepth, NaNAndFartherThanInfinityActAsInfinitelyFar) {
                                   enc.name() + "/" + value.what;
           ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
           std::string why;
-          EXPECT_TRUE(same_colour_status_x(runs.front(), r, &why)) << ctx << " differs from +inf: " << why;
+          EXPECT_TRUE(same_color_status_x(runs.front(), r, &why)) << ctx << " differs from +inf: " << why;
 
           bool exact_like = false;
           for (Method m : kExactLike) exact_like |= m == method;
@@ -689,7 +689,7 @@ TEST(BadInputDepth, ZeroLinearDepthIsTheNearestPossible) {
         ASSERT_TRUE(r.status.ok()) << ctx << ": " << r.status.message();
         std::string why;
         const std::size_t reference = i - i % 2;
-        EXPECT_TRUE(same_colour_status_x(runs[reference], r, &why))
+        EXPECT_TRUE(same_color_status_x(runs[reference], r, &why))
             << ctx << " differs from " << values[reference].what << ": " << why;
         for (int t = 0; t < width; ++t)
           EXPECT_LE(r.out.status_at(t, 0), 3) << ctx;

@@ -124,7 +124,7 @@ struct Agreement {
 TEST(Exact, SweepEqualsGatherOracleOnRandomPiecewisePlanarRows) {
   std::mt19937 rng(20261122);
   Agreement total;
-  long colour_errors = 0;
+  long color_errors = 0;
   for (int frame_index = 0; frame_index < 12; ++frame_index) {
     const int guard = frame_index % 3 == 2 ? 7 : 0;
     const RandomFrame frame = make_random_frame(rng, 181 + 17 * frame_index, 64, guard, frame_index % 2 == 1);
@@ -147,7 +147,7 @@ TEST(Exact, SweepEqualsGatherOracleOnRandomPiecewisePlanarRows) {
           const int j = static_cast<int>(std::floor(ray.x));
           expected = rows[y].s * rows[y].parallax[j + 1] < rows[y].s * rows[y].parallax[j] ? j + 1 : j;
         }
-        if (std::fabs(out.color[i] - expected) > 2e-3) ++colour_errors;
+        if (std::fabs(out.color[i] - expected) > 2e-3) ++color_errors;
       }
     }
   }
@@ -159,7 +159,7 @@ TEST(Exact, SweepEqualsGatherOracleOnRandomPiecewisePlanarRows) {
   for (long c : total.count) EXPECT_GE(c, 500) << "every status must be exercised";
   EXPECT_EQ(total.status_mismatches, 0);
   EXPECT_LE(total.worst_dx, 1e-4);
-  EXPECT_EQ(colour_errors, 0);
+  EXPECT_EQ(color_errors, 0);
 }
 
 TEST(Exact, ScanlineEqualsExactWhenTheRangeCoversTheData) {

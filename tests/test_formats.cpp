@@ -265,7 +265,7 @@ TEST(Pfm, BadFilesAreErrorsWithClearMessages) {
 // ------------------------------------------------------------------------------------------------
 // Png (the reader and writer have their own tests in test_teddy.cpp; here: through the front end)
 
-TEST(Png, RoundTrip8And16BitColour) {
+TEST(Png, RoundTrip8And16BitColor) {
   for (int bits : {8, 16}) {
     const float top = bits == 8 ? 255.0f : 65535.0f;
     const Image image = make_image(9, 4, 3, [&](int c, int x, int y) {
@@ -297,9 +297,9 @@ TEST(Png, RoundTrip16BitDepth) {
 
   // An RGB PNG is not a depth image.
   const Image rgb(2, 2, 3);
-  TempFile colour("colour.png");
-  ASSERT_TRUE(io::write_image(colour.path, rgb.color()).ok());
-  const io::IoStatus refused = io::read_depth(colour.path, &loaded);
+  TempFile color("colour.png");
+  ASSERT_TRUE(io::write_image(color.path, rgb.color()).ok());
+  const io::IoStatus refused = io::read_depth(color.path, &loaded);
   EXPECT_EQ(refused.error, io::IoError::unsupported) << refused.message;
   EXPECT_TRUE(contains(refused.message, "must have 1 channel, this one has 3")) << refused.message;
   EXPECT_TRUE(loaded.image.empty());
@@ -548,9 +548,9 @@ TEST(Exr, RoundTripGreyAndDepthOnly) {
   ASSERT_TRUE(io::read_exr(only.path, &loaded).ok());
   EXPECT_TRUE(loaded.image.empty());
   expect_same_bits(depth, loaded.depth);
-  const io::IoStatus no_colour = io::read_image(only.path, &loaded);
-  EXPECT_EQ(no_colour.error, io::IoError::unsupported) << no_colour.message;
-  EXPECT_TRUE(contains(no_colour.message, "no colour channels")) << no_colour.message;
+  const io::IoStatus no_color = io::read_image(only.path, &loaded);
+  EXPECT_EQ(no_color.error, io::IoError::unsupported) << no_color.message;
+  EXPECT_TRUE(contains(no_color.message, "no colour channels")) << no_color.message;
 }
 
 // Writes an EXR with the given channels (name -> type) over the data window `window`; channel k
@@ -1150,7 +1150,7 @@ TEST(StereoViews, AnaglyphDuboisMatchesAHandComputedPixel) {
   EXPECT_EQ(at(out, 2, 0, 0), 0.0f);
 }
 
-TEST(StereoViews, StatusImageColours) {
+TEST(StereoViews, StatusImageColors) {
   const std::uint8_t statuses[] = {0, 1, 2, 3, 7};
   std::uint8_t data[5];
   std::memcpy(data, statuses, sizeof data);

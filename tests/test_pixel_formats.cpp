@@ -477,7 +477,7 @@ INSTANTIATE_TEST_SUITE_P(EveryArch, FormatsEveryArch, ::testing::ValuesIn(every_
 // identical; colour and depth differ only by the formats' rounding.
 TEST(PixelFormats, NativeMatchesTheFloatPath) {
   std::mt19937 rng(77);
-  long pixels = 0, colour_off = 0, depth_off = 0;
+  long pixels = 0, color_off = 0, depth_off = 0;
   for (const FormatCase& fc : kCases) {
     for (int variant = 0; variant < 6; ++variant) {
       const DepthDecoder decoder = decoder_for(fc, variant);
@@ -512,7 +512,7 @@ TEST(PixelFormats, NativeMatchesTheFloatPath) {
                 case ColorFormat::float32: diff = std::memcmp(n + 16 * t + 4 * c, f + c, 4) != 0 ? 2 : 0; break;
               }
               ASSERT_LE(diff, 1) << to_string(fc.color) << " method " << m << " pixel " << t << " channel " << c;
-              colour_off += diff != 0;
+              color_off += diff != 0;
             }
             const float fd = reinterpret_cast<const float*>(floats.depth.data() + y * floats.depth_stride)[t];
             const std::uint8_t* nd = native.depth.data() + y * native.depth_stride;
@@ -549,7 +549,7 @@ TEST(PixelFormats, NativeMatchesTheFloatPath) {
     }
   }
   std::printf("native vs float path: %ld pixels, identical status and x; %ld channels and %ld depths one LSB off\n",
-              pixels, colour_off, depth_off);
+              pixels, color_off, depth_off);
 }
 
 // reproject_pair on every format: each eye equals its own reproject() call (the pair shares the

@@ -160,7 +160,7 @@ TEST(Scene, RenderIsDeterministic) {
 
 // Every pixel sees a surface inside the scene's depth range, with colour in 0..1; near/far
 // enclose the range; the encoded depth decodes back to the linear depth.
-TEST(Scene, DepthRangeColourAndEncoding) {
+TEST(Scene, DepthRangeColorAndEncoding) {
   const rs::Scene scene = rs::Scene::make();
   EXPECT_LT(scene.near_plane(), scene.min_depth());
   EXPECT_GT(scene.far_plane(), scene.max_depth());
@@ -291,7 +291,7 @@ TEST(Scene, ObjectTouchesViewportEdge) {
 
 // Colour is a property of the surface point, not of the eye: the same point has the same colour
 // in the left and the right view (what makes PSNR against the true other eye meaningful).
-TEST(Scene, ColourIsViewIndependent) {
+TEST(Scene, ColorIsViewIndependent) {
   const rs::Scene scene = rs::Scene::make();
   const rs::Camera left = scene.camera(960, 540, rs::kLeftEye);
   const rs::Camera right = left.with_eye(rs::kRightEye);

@@ -17,6 +17,7 @@
 #include "src/reproject_internal.hpp"
 #include "reproject/reproject.hpp"
 #include "support/arch_report.hpp"
+#include "tests/arch_layer/sets.hpp"
 
 namespace reproject {
 namespace {
@@ -127,9 +128,15 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
   // and one either side of it.
   const int widths[] = {1, 3, 4, 5, 7, 8, 9, L - 1, L, L + 1, 31, 32, 33, 63, 64, 65, 5 * L + 3, 127, 128, 129, 131};
   long runs = 0, mismatched = 0;
-  // Vectors per column-fetch mode read by this thread (the runs below use one thread).
-  detail::FetchModeCounts* modes = simd.fetch_mode_counts ? simd.fetch_mode_counts() : nullptr;
-  const detail::FetchModeCounts modes_before = modes ? *modes : detail::FetchModeCounts{};
+  // The same set's table built once more with a tally of the resolve's column-fetch modes
+  // (tests/arch_layer/set.cpp; the library's tables count nothing): it runs every case too, must
+  // give the same bits, and its counts show that every mode ran (the runs use one thread).
+  const test::CountedTable counted = test::counted_kernels(arch);
+  const test::FetchModeCounts* modes = counted.table ? counted.of_thread() : nullptr;
+  const test::FetchModeCounts modes_before = modes ? *modes : test::FetchModeCounts{};
+  if (arch != Arch::scalar) {
+    ASSERT_NE(counted.table, nullptr) << "no counting copy of the " << to_string(arch) << " table";
+  }
   for (int width : widths) {
     for (int variant = 0; variant < 8; ++variant) {
       Case c;
@@ -153,18 +160,24 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
             options.guard = c.guard;
             options.hole_fill = fill;
             options.edge = edge;
-            options.threads = 1;  // the fetch-mode counters are the calling thread's
+            options.threads = 1;  // the fetch-mode counts are the calling thread's
             if (c.clip) options.max_negative_parallax = 1.5f;
             if (m == static_cast<int>(Method::secant) && variant % 2 == 1) options.secant_max_steps = 3;  // coarse steps + refinement
             // march16's samples run in chunks of 16: one sample, several chunks and a partial one.
             if (m == static_cast<int>(Method::march16) && variant % 4 == 1) options.march_steps = 40;
             if (m == static_cast<int>(Method::march16) && variant % 4 == 3) options.march_steps = 1;
-            Out expected, got;
+            Out expected, got, got_counted;
             ASSERT_TRUE(run(reference, frame, c, decoder, model, options, expected).ok());
             ASSERT_TRUE(run(simd, frame, c, decoder, model, options, got).ok());
+            if (counted.table) {
+              ASSERT_TRUE(run(*counted.table, frame, c, decoder, model, options, got_counted).ok());
+            }
             ++runs;
-            const bool same = same_bits(expected.color, got.color) && same_bits(expected.depth, got.depth) &&
-                              same_bits(expected.source_x, got.source_x) && expected.status == got.status;
+            auto same_as_expected = [&](const Out& o) {
+              return same_bits(expected.color, o.color) && same_bits(expected.depth, o.depth) &&
+                     same_bits(expected.source_x, o.source_x) && expected.status == o.status;
+            };
+            const bool same = same_as_expected(got) && (!counted.table || same_as_expected(got_counted));
             if (!same) {
               ++mismatched;
               ADD_FAILURE() << to_string(arch) << " differs from its scalar reference: method "

@@ -381,6 +381,55 @@ TEST(ParallaxModel, FromPhysicalIsFromStereo) {
   EXPECT_FLOAT_EQ(ParallaxModel::from_physical(0.065, 1.3, 2.0, 1300, EyeDirection::left_to_right).a, 65.0f);
 }
 
+TEST(StereoCamera, FromRigIsTheInteraxialOverTheConvergencePlanesWidth) {
+  // Blender's defaults: interocular 0.065, convergence 1.95, a 50 mm lens on a 36 mm sensor.
+  const double fov = 2.0 * std::atan(18.0 / 50.0);
+  const StereoCamera rig = StereoCamera::from_rig(0.065, 1.95, fov);
+  EXPECT_DOUBLE_EQ(rig.separation, 0.065 / (2.0 * 1.95 * 18.0 / 50.0));  // 0.0463
+  EXPECT_EQ(rig.convergence, 1.95);
+  // The inverse of eye_translation: the eyes sit half the interaxial from the centre.
+  EXPECT_NEAR(rig.eye_translation(fov), 0.0325, 1e-12);
+  // At 1920 px the two eyes see infinity S W = 88.9 px apart.
+  EXPECT_NEAR(rig.parallax(1920, EyeDirection::left_to_right).a, 1920 * 0.065 / (3.9 * 0.36), 1e-3);
+  const double pi = 3.14159265358979323846;
+  for (double bad_fov : {0.0, -0.5, pi, 4.0, std::nan("")}) {
+    EXPECT_TRUE(std::isnan(StereoCamera::from_rig(0.065, 1.95, bad_fov).separation)) << bad_fov;
+  }
+  EXPECT_TRUE(std::isnan(StereoCamera::from_rig(-0.065, 1.95, fov).separation));
+  EXPECT_TRUE(std::isnan(StereoCamera::from_rig(0.065, 0.0, fov).separation));
+  EXPECT_EQ(StereoCamera::from_rig(0.065, 1.95, fov).parallax(640, EyeDirection::left_to_right).validate().code(),
+            StatusCode::ok);
+  EXPECT_EQ(StereoCamera::from_rig(0.065, 1.95, 0.0).parallax(640, EyeDirection::left_to_right).validate().code(),
+            StatusCode::invalid_model);
+}
+
+TEST(ParallaxModel, FromRelativeSpansTheMaximumAndIsZeroAtThePlane) {
+  const DepthDecoder relative = DepthDecoder::disparity();  // w = v
+  for (EyeDirection dir : kDirections) {
+    const ParallaxModel m = ParallaxModel::from_relative(0.04, 0.25, 1000, dir);
+    ASSERT_TRUE(m.validate().ok());
+    const float sigma = static_cast<float>(eye_offset(dir));
+    EXPECT_FLOAT_EQ(m.parallax(relative.inverse_depth(0.25f)), 0.0f);
+    EXPECT_FLOAT_EQ(m.parallax(relative.inverse_depth(0.0f)), sigma * 40.0f * 0.25f);   // farthest: behind
+    EXPECT_FLOAT_EQ(m.parallax(relative.inverse_depth(1.0f)), -sigma * 40.0f * 0.75f);  // nearest: in front
+  }
+  // The pair's eyes (centre to each side) are the left-to-right model's span apart.
+  const ParallaxModel right = ParallaxModel::from_relative(0.04, 0.5, 1000, EyeDirection::centre_to_right);
+  const ParallaxModel left = ParallaxModel::from_relative(0.04, 0.5, 1000, EyeDirection::centre_to_left);
+  EXPECT_FLOAT_EQ(right.parallax(1.0f) - left.parallax(1.0f) - (right.parallax(0.0f) - left.parallax(0.0f)), -40.0f);
+  // As a near-to-far sign, it moves like a disparity map: nearer is more crossed, left to right.
+  EXPECT_LT(ParallaxModel::from_relative(0.04, 0.0, 100, EyeDirection::left_to_right).b, 0.0f);
+  const auto lr = EyeDirection::left_to_right;
+  EXPECT_TRUE(ParallaxModel::from_relative(0.0, 1.0, 100, lr).validate().ok());
+  EXPECT_EQ(ParallaxModel::from_relative(0.03, 1.5, 100, lr).validate().code(), StatusCode::invalid_model);
+  EXPECT_NE(std::strstr(ParallaxModel::from_relative(0.03, -0.1, 100, lr).validate().message(), "zero-parallax plane"),
+            nullptr);
+  EXPECT_NE(std::strstr(ParallaxModel::from_relative(-0.03, 0.5, 100, lr).validate().message(), "maximum parallax"),
+            nullptr);
+  EXPECT_EQ(ParallaxModel::from_relative(0.03, std::nan(""), 100, lr).validate().code(), StatusCode::invalid_model);
+  EXPECT_EQ(ParallaxModel::from_relative(0.03, 0.5, 0, lr).validate().code(), StatusCode::invalid_model);
+}
+
 void expect_invalid(const ParallaxModel& model, const char* must_mention, const std::string& what) {
   const Status status = model.validate();
   EXPECT_EQ(status.code(), StatusCode::invalid_model) << what;

@@ -42,9 +42,17 @@ struct ParallaxModel {
   // Rectified pair with a disparity map (DepthEncoding::disparity): left_to_right gives
   // p = -disparity (a = 0, b = -1); right_to_left gives p = +disparity.
   static ParallaxModel from_disparity(EyeDirection direction = EyeDirection::left_to_right) noexcept;
+  // Relative inverse depth v (a monocular depth model's output: 0 the farthest, 1 the nearest,
+  // decoded by DepthDecoder::disparity() as w = v; docs/BEHAVIOUR.md "Relative inverse depth"):
+  // p = sigma * max_parallax * width * (zero_plane - v). max_parallax (>= 0, a fraction of the
+  // width) is the parallax between the eyes from v = 0 to v = 1; zero_plane (0..1) is the v on
+  // the screen (zero parallax): nearer values come out in front of it.
+  static ParallaxModel from_relative(double max_parallax, double zero_plane, int width,
+                                     EyeDirection direction) noexcept;
 
   // invalid_model when a or b is not finite, or when a factory got convergence <= 0, a negative
-  // or non-finite separation, width < 1, or screen_width <= 0 (such factories return NaN a, b).
+  // or non-finite separation (or max_parallax), width < 1, screen_width <= 0 or a zero_plane
+  // outside 0..1 (such factories return NaN a, b).
   Status validate() const noexcept;
 };
 
@@ -55,6 +63,12 @@ struct StereoCamera {
   double convergence = 1.0;  // view-space distance of the zero-parallax plane
 
   static StereoCamera from_physical(double interocular, double screen_width, double convergence) noexcept;
+  // A renderer's rig (Blender's off-axis stereo: interocular distance, convergence distance, the
+  // camera's horizontal field of view in radians): S = interaxial / (2 convergence tan(fov / 2)),
+  // the interaxial over the width of the view at the convergence distance. interaxial and
+  // convergence in one unit (the scene's). A negative or non-finite interaxial, a convergence
+  // <= 0 or a field of view outside (0, pi) gives a NaN separation, which parallax() refuses.
+  static StereoCamera from_rig(double interaxial, double convergence, double horizontal_fov) noexcept;
   // Half the interaxial distance in view-space units: T = separation * convergence * tan(fov/2),
   // the camera translation equivalent to the projection shear. fov in radians.
   double eye_translation(double horizontal_fov) const noexcept;

@@ -354,6 +354,14 @@ reproject_status reproject_parallax_from_stereo(double separation, double conver
 reproject_status reproject_parallax_from_physical(double interocular, double screen_width, double convergence,
                                                   int32_t width, int32_t direction, reproject_parallax* out);
 reproject_status reproject_parallax_from_disparity(int32_t direction, reproject_parallax* out);
+/* A renderer's stereo rig (C++ StereoCamera::from_rig(...).parallax(width, direction)): interaxial
+ * and convergence distances in one unit, the horizontal field of view in radians. */
+reproject_status reproject_parallax_from_rig(double interaxial, double convergence, double horizontal_fov,
+                                             int32_t width, int32_t direction, reproject_parallax* out);
+/* Relative inverse depth, decoded by reproject_decoder_disparity (C++ ParallaxModel::from_relative):
+ * max_parallax a fraction of the width, zero_plane in 0..1. */
+reproject_status reproject_parallax_from_relative(double max_parallax, double zero_plane, int32_t width,
+                                                  int32_t direction, reproject_parallax* out);
 
 /* reproject() and reproject_pair(). Required: source (centre), decoder, model (centre_to_right),
  * options (from reproject_options_init), target (left and right). jobs may be NULL: the library's

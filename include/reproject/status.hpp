@@ -22,7 +22,9 @@ enum class StatusCode : int {
 // Short stable name of a code, e.g. "invalid_stride".
 const char* to_string(StatusCode code) noexcept;
 
-class Status {
+// [[nodiscard]]: a call whose Status is dropped is a compile warning, wherever a function returns
+// one by value.
+class [[nodiscard]] Status {
  public:
   Status() noexcept = default;  // ok
   // printf-style message, in the C99 dialect on every platform (%td, %zu, %lld; src/status.cpp);

@@ -603,6 +603,20 @@ int main(void) {
         reproject_last_error_message());
   CHECK(reproject_parallax_from_stereo(0.03, 4.0, W, REPROJECT_CENTRE_TO_RIGHT, &centre_to_right) == REPROJECT_OK,
         "%s", reproject_last_error_message());
+  {
+    /* A rig whose interaxial spans 3 % of the convergence plane's width is the model above. */
+    reproject_parallax rig, relative;
+    const double fov = 1.2, interaxial = 0.03 * 2.0 * 4.0 * tan(0.6);
+    CHECK(reproject_parallax_from_rig(interaxial, 4.0, fov, W, REPROJECT_LEFT_TO_RIGHT, &rig) == REPROJECT_OK, "%s",
+          reproject_last_error_message());
+    CHECK(fabsf(rig.a - model.a) <= 1e-5f * fabsf(model.a) && fabsf(rig.b - model.b) <= 1e-5f * fabsf(model.b),
+          "rig a %g b %g, stereo a %g b %g", (double)rig.a, (double)rig.b, (double)model.a, (double)model.b);
+    /* Relative inverse depth: 4 % of the width from v = 0 to 1, zero at v = 0.25. */
+    CHECK(reproject_parallax_from_relative(0.04, 0.25, W, REPROJECT_LEFT_TO_RIGHT, &relative) == REPROJECT_OK, "%s",
+          reproject_last_error_message());
+    CHECK(relative.a == (float)(0.04 * W * 0.25) && relative.b == (float)(-0.04 * W), "relative a %g b %g",
+          (double)relative.a, (double)relative.b);
+  }
   make_frame(&decoder);
   source = source_of();
   for (c = 0; c < C; ++c) {
@@ -716,6 +730,12 @@ int main(void) {
             "direction -1 must be refused");
       CHECK(reproject_parallax_from_disparity(REPROJECT_LEFT_TO_RIGHT + 256, &wrapped_model) == REPROJECT_INVALID_MODEL,
             "disparity direction 256 must be refused");
+      CHECK(reproject_parallax_from_rig(0.065, 1.95, 0.0, W, REPROJECT_LEFT_TO_RIGHT, &wrapped_model) ==
+                REPROJECT_INVALID_MODEL, "a rig with no field of view must be refused");
+      CHECK(reproject_parallax_from_relative(0.03, 1.5, W, REPROJECT_LEFT_TO_RIGHT, &wrapped_model) ==
+                REPROJECT_INVALID_MODEL, "a relative zero plane of 1.5 must be refused");
+      CHECK(strstr(reproject_last_error_message(), "zero-parallax plane") != NULL, "message: %s",
+            reproject_last_error_message());
     }
 
     target.color.plane[1].stride = W - 1;

@@ -43,9 +43,9 @@ def run(cli, arch, out):
             depth = work / f"{pair}_disparity.png"
             Image.open(DATA / pair / disparity).save(depth)
             for method in METHODS:
-                for colour_path in ("native", "float"):
-                    prefix = work / f"{pair}_{method}_{colour_path}"
-                    outputs = {"colour": prefix.with_suffix(".png" if colour_path == "native" else ".pfm"),
+                for color_path in ("native", "float"):
+                    prefix = work / f"{pair}_{method}_{color_path}"
+                    outputs = {"colour": prefix.with_suffix(".png" if color_path == "native" else ".pfm"),
                                "depth": pathlib.Path(f"{prefix}_depth.pfm"),
                                "status": pathlib.Path(f"{prefix}_status.png"),
                                "source_x": pathlib.Path(f"{prefix}_x.pfm")}
@@ -54,13 +54,13 @@ def run(cli, arch, out):
                         "--depth-scale", repr(scale), "--unknown-depth", "0", "--method", method, "--arch", arch,
                         "--out", str(outputs["colour"]), "--out-depth", str(outputs["depth"]),
                         "--status", str(outputs["status"]), "--source-x", str(outputs["source_x"])]
-                    if colour_path == "float":
+                    if color_path == "float":
                         command.append("--float-color")
                     result = subprocess.run(command, capture_output=True, text=True)
                     if result.returncode != 0:
                         sys.exit(f"{' '.join(command)} failed ({result.returncode}):\n{result.stderr}")
                     for name, path in outputs.items():
-                        lines.append(f"{pair} {method} {colour_path} {name} {pixels_digest(path)}")
+                        lines.append(f"{pair} {method} {color_path} {name} {pixels_digest(path)}")
     pathlib.Path(out).write_text("\n".join(lines) + "\n")
     print(f"{out}: {len(lines)} outputs of {len(PAIRS)} pairs x {len(METHODS)} methods x 2 colour paths, --arch {arch}")
 

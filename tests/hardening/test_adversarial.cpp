@@ -235,7 +235,7 @@ struct Scene {
 };
 
 // Colour of channel c at source column x, row y: distinct and in [0, 1].
-float colour_value(int c, int x, int y) { return static_cast<float>((x * 7 + y * 13 + c * 5) % 64) / 64.0f; }
+float color_value(int c, int x, int y) { return static_cast<float>((x * 7 + y * 13 + c * 5) % 64) / 64.0f; }
 
 struct GuardedSource {
   std::vector<std::unique_ptr<GuardedPlane<float>>> color;
@@ -251,9 +251,9 @@ struct GuardedSource {
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
           if (interleaved) {
-            for (int c = 0; c < 4; ++c) color.back()->row(y)[4 * x + c] = colour_value(c, x, y);
+            for (int c = 0; c < 4; ++c) color.back()->row(y)[4 * x + c] = color_value(c, x, y);
           } else {
-            color.back()->row(y)[x] = colour_value(p, x, y);
+            color.back()->row(y)[x] = color_value(p, x, y);
           }
         }
       view.color.plane[p] = color.back()->cview();
@@ -291,7 +291,7 @@ struct GuardedTarget {
     view.status = status->view();
     view.source_x = source_x->view();
   }
-  float colour(int c, int t, int y) const {
+  float color_at(int c, int t, int y) const {
     return interleaved ? color[0]->row(y)[4 * t + c] : color[static_cast<std::size_t>(c)]->row(y)[t];
   }
 };
@@ -481,7 +481,7 @@ std::vector<Case> adversarial_cases() {
         for (int y = 0; y < k.scene.height; ++y) {
           for (int t = 0; t < k.scene.source_width; ++t) {
             const bool same = out.source_x->row(y)[t] == static_cast<float>(t) && out.status->row(y)[t] == 0 &&
-                              out.colour(0, t, y) == colour_value(0, t, y) && out.depth->row(y)[t] == k.scene.at(t, y);
+                              out.color_at(0, t, y) == color_value(0, t, y) && out.depth->row(y)[t] == k.scene.at(t, y);
             if (!same) {
               *why = "not the identity at row " + std::to_string(y) + " t " + std::to_string(t);
               return;
@@ -630,12 +630,12 @@ Options options_for(Method method, int variant, int guard) {
   return o;
 }
 
-float lerp_colour(const Case& c, int channel, float x, int y) {
+float lerp_color(const Case& c, int channel, float x, int y) {
   const int last = c.scene.source_width - 1;
   const int j0 = static_cast<int>(std::floor(x));
   const int j1 = std::min(j0 + 1, last);
-  const float c0 = colour_value(channel, j0, y);
-  return c0 + (x - static_cast<float>(j0)) * (colour_value(channel, j1, y) - c0);
+  const float c0 = color_value(channel, j0, y);
+  return c0 + (x - static_cast<float>(j0)) * (color_value(channel, j1, y) - c0);
 }
 
 // Output depth is defined (finite) when the stored values it may come from decode and
@@ -671,7 +671,7 @@ void check_pixels(const Case& c, const Options& o, const GuardedTarget& out, std
       const bool written = status == 0 || status == 3 || (status == 2 && o.edge != EdgeMode::none) ||
                            (status == 1 && o.hole_fill != HoleFill::none);
       for (int ch = 0; ch < out.channels; ++ch) {
-        const float v = out.colour(ch, t, y);
+        const float v = out.color_at(ch, t, y);
         if (!written) {
           if (std::memcmp(&v, &kSentinel, sizeof v) != 0) return fail("colour written where it must not be");
           continue;
@@ -680,13 +680,13 @@ void check_pixels(const Case& c, const Options& o, const GuardedTarget& out, std
         switch (status) {
           case 0:
             if (!(x >= 0.0f && x <= last)) return fail("a hit off the row");
-            if (!(std::fabs(v - lerp_colour(c, ch, x, y)) <= 1e-5f)) return fail("hit colour is not the source at x");
+            if (!(std::fabs(v - lerp_color(c, ch, x, y)) <= 1e-5f)) return fail("hit colour is not the source at x");
             break;
           case 1: {
             if (!(x >= 0.0f && x <= last)) return fail("a hole off the row");
             const int j = static_cast<int>(std::floor(x));
             const int j1 = std::min(j + 1, c.scene.source_width - 1);
-            if (v != colour_value(ch, j, y) && v != colour_value(ch, j1, y)) return fail("hole colour is not a wall endpoint's");
+            if (v != color_value(ch, j, y) && v != color_value(ch, j1, y)) return fail("hole colour is not a wall endpoint's");
             break;
           }
           case 2: {
@@ -696,15 +696,15 @@ void check_pixels(const Case& c, const Options& o, const GuardedTarget& out, std
               if (v != 0.0f) return fail("outside colour is not black");
             } else if (o.edge == EdgeMode::mirror) {
               const float reflected = std::clamp(x < 0.0f ? -x : (last - x) + last, 0.0f, last);
-              if (!(std::fabs(v - lerp_colour(c, ch, reflected, y)) <= 1e-5f))
+              if (!(std::fabs(v - lerp_color(c, ch, reflected, y)) <= 1e-5f))
                 return fail("outside colour is not the source at the reflected x");
-            } else if (v != colour_value(ch, edge, y)) {
+            } else if (v != color_value(ch, edge, y)) {
               return fail("outside colour is not the edge pixel's");
             }
             break;
           }
           default:
-            if (!(std::fabs(v - lerp_colour(c, ch, std::clamp(x, 0.0f, last), y)) <= 1e-5f))
+            if (!(std::fabs(v - lerp_color(c, ch, std::clamp(x, 0.0f, last), y)) <= 1e-5f))
               return fail("clipped colour is not the source at the clamped x");
             break;
         }

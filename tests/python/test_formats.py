@@ -15,9 +15,9 @@ H, W = 24, 80
 NEAR, FAR = 1.0, 40.0  # the standard encoding's planes (every depth format but packed)
 PACKED_RANGE = (0.5, 40.0)  # rgba8_packed_linear's linear range
 STEREO = dict(separation=0.08, convergence=3.5)
-COLOURS = ["rgba8", "rgba8_srgb", "rgba16f", "float32"]
+COLORS = ["rgba8", "rgba8_srgb", "rgba16f", "float32"]
 DEPTHS = ["float32", "unorm16", "unorm24_s8", "s8_unorm24", "rgba8_packed_linear"]
-PAIRS = [(c, d) for c in COLOURS for d in DEPTHS]
+PAIRS = [(c, d) for c in COLORS for d in DEPTHS]
 ARCHES = [a for a in reproject.arches if reproject.arch_supported(a)]
 # scalar, avx2 and avx512 fuse multiply-adds and store the same bits; sse does not fuse, and may
 # differ from them in the last bits (docs/BEHAVIOUR.md "Instruction sets and FMA policy").
@@ -26,7 +26,7 @@ FUSED = [a for a in ARCHES if a != "sse"]
 # the other resolve paths (every pixel written, as the C++ comparison requires).
 VARIANTS = [dict(), dict(hole_fill="foreground", edge="mirror", guard=4, max_negative_parallax=2.0)]
 
-STATS = {"cases": 0, "pixels": 0, "colour_off": 0, "colour_max": 0, "depth_off": dict.fromkeys(DEPTHS, 0),
+STATS = {"cases": 0, "pixels": 0, "color_off": 0, "color_max": 0, "depth_off": dict.fromkeys(DEPTHS, 0),
          "depth_max": 0, "sse_same": 0, "sse_runs": 0}
 
 
@@ -35,7 +35,7 @@ def summary():
     yield
     if STATS["cases"]:
         print(f"\nformats: {STATS['cases']} native-vs-float runs, {STATS['pixels']} pixels: status and source_x "
-              f"identical; colour {STATS['colour_off']} channels off (max {STATS['colour_max']} LSB), depth "
+              f"identical; colour {STATS['color_off']} channels off (max {STATS['color_max']} LSB), depth "
               f"codes off {STATS['depth_off']} (max {STATS['depth_max']} code)")
     if STATS["sse_runs"]:
         print(f"formats: sse equal to scalar bit for bit in {STATS['sse_same']} of {STATS['sse_runs']} runs")
@@ -79,7 +79,7 @@ def linear_to_srgb(linear):
     return np.floor(255.0 * e + 0.5).astype(np.int64)
 
 
-def make_colour(fmt, seed, height=H, width=W):
+def make_color(fmt, seed, height=H, width=W):
     """(native array, its keyword arguments, the float32 RGBA the format decodes to)."""
     rng = np.random.default_rng(seed + 1000)
     if fmt in ("rgba8", "rgba8_srgb"):
@@ -124,7 +124,7 @@ def make_depth(fmt, seed, height=H, width=W):
 
 # ---- the float path's outputs in the formats ------------------------------------------------------
 
-def colour_lsb(fmt, native, floats):
+def color_lsb(fmt, native, floats):
     """Per channel: how many codes the native output is from the float output stored in `fmt`."""
     if fmt == "rgba16f":  # the same blend, rounded once to half (numpy rounds to nearest even)
         return (native.view(np.uint16) != floats.astype(np.float16).view(np.uint16)).astype(np.int64) * 2
@@ -180,10 +180,10 @@ def check_kept_bits(fmt, native, result, guard):
     assert np.all((kept[hole] == source_bits[rows, j0][hole]) | (kept[hole] == source_bits[rows, j1][hole]))
 
 
-def assert_native_matches_float(colour_fmt, depth_fmt, native, floats, depth_native, guard):
+def assert_native_matches_float(color_fmt, depth_fmt, native, floats, depth_native, guard):
     assert np.array_equal(native.status, floats.status), "status"
     assert np.array_equal(native.source_x.view(np.uint32), floats.source_x.view(np.uint32)), "source_x"
-    lsb = colour_lsb(colour_fmt, native.color, floats.color)
+    lsb = color_lsb(color_fmt, native.color, floats.color)
     assert lsb.max() <= 1, f"colour {lsb.max()} codes off"
     code, _ = depth_code(depth_fmt, native.depth)
     depth_lsb = np.abs(code - expected_code(depth_fmt, floats.depth))
@@ -191,38 +191,38 @@ def assert_native_matches_float(colour_fmt, depth_fmt, native, floats, depth_nat
     check_kept_bits(depth_fmt, depth_native, native, guard)
     STATS["cases"] += 1
     STATS["pixels"] += native.status.size
-    STATS["colour_off"] += int(np.count_nonzero(lsb))
-    STATS["colour_max"] = max(STATS["colour_max"], int(lsb.max()))
+    STATS["color_off"] += int(np.count_nonzero(lsb))
+    STATS["color_max"] = max(STATS["color_max"], int(lsb.max()))
     STATS["depth_off"][depth_fmt] += int(np.count_nonzero(depth_lsb))
     STATS["depth_max"] = max(STATS["depth_max"], int(depth_lsb.max()))
 
 
-def frame(colour_fmt, depth_fmt, seed):
-    colour, colour_kw, colour_f = make_colour(colour_fmt, seed)
+def frame(color_fmt, depth_fmt, seed):
+    color, color_kw, color_f = make_color(color_fmt, seed)
     depth, depth_kw, depth_f = make_depth(depth_fmt, seed)
     float_kw = {k: v for k, v in depth_kw.items() if k not in ("depth_format", "linear_range")}
-    return (colour, depth, dict(colour_kw, **depth_kw, **STEREO)), (colour_f, depth_f, dict(float_kw, **STEREO))
+    return (color, depth, dict(color_kw, **depth_kw, **STEREO)), (color_f, depth_f, dict(float_kw, **STEREO))
 
 
 # ---- native == the float path ---------------------------------------------------------------------
 
 @pytest.mark.parametrize("method", reproject.methods)
-@pytest.mark.parametrize("colour_fmt,depth_fmt", PAIRS)
-def test_native_matches_the_float_path(colour_fmt, depth_fmt, method):
-    (colour, depth, kw), (colour_f, depth_f, float_kw) = frame(colour_fmt, depth_fmt, seed=len(method))
+@pytest.mark.parametrize("color_fmt,depth_fmt", PAIRS)
+def test_native_matches_the_float_path(color_fmt, depth_fmt, method):
+    (color, depth, kw), (color_f, depth_f, float_kw) = frame(color_fmt, depth_fmt, seed=len(method))
     for arch in ARCHES:
         for variant in VARIANTS:
             options = dict(variant, method=method, arch=arch)
-            native = reproject.warp(colour, depth, **kw, **options)
-            assert native.color.dtype == colour.dtype and native.color.shape == (H, W - 2 * options.get("guard", 0), 4)
+            native = reproject.warp(color, depth, **kw, **options)
+            assert native.color.dtype == color.dtype and native.color.shape == (H, W - 2 * options.get("guard", 0), 4)
             assert native.depth.dtype == depth.dtype and native.depth.shape[2:] == depth.shape[2:]
-            floats = reproject.warp(colour_f, depth_f, **float_kw, **options)
-            assert_native_matches_float(colour_fmt, depth_fmt, native, floats, depth, options.get("guard", 0))
+            floats = reproject.warp(color_f, depth_f, **float_kw, **options)
+            assert_native_matches_float(color_fmt, depth_fmt, native, floats, depth, options.get("guard", 0))
             # Both eyes in one call: each eye as its own warp, against the float path's pair.
-            pair = reproject.warp_pair(colour, depth, **kw, **options)
-            pair_f = reproject.warp_pair(colour_f, depth_f, **float_kw, **options)
+            pair = reproject.warp_pair(color, depth, **kw, **options)
+            pair_f = reproject.warp_pair(color_f, depth_f, **float_kw, **options)
             for eye, eye_f in zip(pair, pair_f):
-                assert_native_matches_float(colour_fmt, depth_fmt, eye, eye_f, depth, options.get("guard", 0))
+                assert_native_matches_float(color_fmt, depth_fmt, eye, eye_f, depth, options.get("guard", 0))
 
 
 def result_bytes(r):
@@ -230,11 +230,11 @@ def result_bytes(r):
 
 
 @pytest.mark.parametrize("method", reproject.methods)
-@pytest.mark.parametrize("colour_fmt,depth_fmt", PAIRS)
-def test_every_fused_arch_gives_the_same_bytes(colour_fmt, depth_fmt, method):
-    (colour, depth, kw), _ = frame(colour_fmt, depth_fmt, seed=7)
+@pytest.mark.parametrize("color_fmt,depth_fmt", PAIRS)
+def test_every_fused_arch_gives_the_same_bytes(color_fmt, depth_fmt, method):
+    (color, depth, kw), _ = frame(color_fmt, depth_fmt, seed=7)
     for variant in VARIANTS:
-        outputs = {a: result_bytes(reproject.warp(colour, depth, method=method, arch=a, **variant, **kw)) for a in ARCHES}
+        outputs = {a: result_bytes(reproject.warp(color, depth, method=method, arch=a, **variant, **kw)) for a in ARCHES}
         for arch in FUSED[1:]:
             assert outputs[arch] == outputs[FUSED[0]], f"{arch} differs from {FUSED[0]}"
         if "sse" in outputs:  # checked against the float path above; here only counted
@@ -265,20 +265,20 @@ def odd_strides(a):
 
 
 @pytest.mark.parametrize("method", ["scanline", "exact"])
-@pytest.mark.parametrize("colour_fmt,depth_fmt", [p for p in PAIRS if p != ("float32", "float32")])
-def test_crops_are_read_and_written_in_place(colour_fmt, depth_fmt, method):
-    (colour, depth, kw), _ = frame(colour_fmt, depth_fmt, seed=3)
-    reference = reproject.warp(colour, depth, method=method, **kw)
-    crop_colour, _ = embed(colour)
+@pytest.mark.parametrize("color_fmt,depth_fmt", [p for p in PAIRS if p != ("float32", "float32")])
+def test_crops_are_read_and_written_in_place(color_fmt, depth_fmt, method):
+    (color, depth, kw), _ = frame(color_fmt, depth_fmt, seed=3)
+    reference = reproject.warp(color, depth, method=method, **kw)
+    crop_color, _ = embed(color)
     crop_depth, _ = embed(depth, 2, 4, 11, 1)
-    assert not crop_colour.flags.c_contiguous and not crop_depth.flags.c_contiguous
-    assert result_bytes(reproject.warp(crop_colour, crop_depth, method=method, **kw)) == result_bytes(reference)
+    assert not crop_color.flags.c_contiguous and not crop_depth.flags.c_contiguous
+    assert result_bytes(reproject.warp(crop_color, crop_depth, method=method, **kw)) == result_bytes(reference)
     # Crops whose last row ends where their parent's memory ends: a read past a row would leave it
     # (the sanitizer build runs this file too).
-    at_end = reproject.warp(embed(colour, 3, 0, 5, 0)[0], embed(depth, 1, 0, 7, 0)[0], method=method, **kw)
+    at_end = reproject.warp(embed(color, 3, 0, 5, 0)[0], embed(depth, 1, 0, 7, 0)[0], method=method, **kw)
     assert result_bytes(at_end) == result_bytes(reference)
-    if colour.dtype != np.float32 and depth.dtype != np.float32:  # engine rows need no alignment
-        unaligned = reproject.warp(odd_strides(colour), odd_strides(depth), method=method, **kw)
+    if color.dtype != np.float32 and depth.dtype != np.float32:  # engine rows need no alignment
+        unaligned = reproject.warp(odd_strides(color), odd_strides(depth), method=method, **kw)
         assert result_bytes(unaligned) == result_bytes(reference)
     # Outputs as crops of larger arrays: written in place, nothing around them touched.
     out, parents = reproject.Result(), {}
@@ -287,7 +287,7 @@ def test_crops_are_read_and_written_in_place(colour_fmt, depth_fmt, method):
         crop, parent = embed(np.zeros_like(value), 1, 2, 3, 4, fill=0xC3)
         setattr(out, field, crop)
         parents[field] = (parent, parent.copy(), crop)
-    again = reproject.warp(colour, depth, method=method, out=out, **kw)
+    again = reproject.warp(color, depth, method=method, out=out, **kw)
     assert again.color is out.color and again.depth is out.depth
     assert result_bytes(again) == result_bytes(reference)
     for field, (parent, before, crop) in parents.items():
@@ -297,12 +297,12 @@ def test_crops_are_read_and_written_in_place(colour_fmt, depth_fmt, method):
 
 
 def test_pair_writes_native_outputs_in_place():
-    (colour, depth, kw), _ = frame("rgba8", "unorm24_s8", seed=5)
-    left, right = reproject.warp_pair(colour, depth, method="secant", **kw)
+    (color, depth, kw), _ = frame("rgba8", "unorm24_s8", seed=5)
+    left, right = reproject.warp_pair(color, depth, method="secant", **kw)
     out_left, out_right = reproject.Result(), reproject.Result()
     out_left.color, out_left.depth = np.zeros_like(left.color), np.zeros_like(left.depth)
     out_right.color = embed(np.zeros_like(right.color))[0]
-    again = reproject.warp_pair(colour, depth, method="secant", out_left=out_left, out_right=out_right, **kw)
+    again = reproject.warp_pair(color, depth, method="secant", out_left=out_left, out_right=out_right, **kw)
     assert np.array_equal(again.left.color, left.color) and np.array_equal(again.left.depth, left.depth)
     assert np.array_equal(out_right.color, right.color) and again.right.depth is None
 
@@ -310,31 +310,31 @@ def test_pair_writes_native_outputs_in_place():
 # ---- errors ------------------------------------------------------------------------------------------
 
 def test_layouts_the_library_cannot_take_are_refused():
-    (colour, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
+    (color, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
     with pytest.raises(ValueError, match=r"depth: uint16 array .*columns are not consecutive pixels.*"
                                          r"numpy.ascontiguousarray\(depth\)"):
-        reproject.warp(colour[:, ::2], depth[:, ::2], **kw)
+        reproject.warp(color[:, ::2], depth[:, ::2], **kw)
     with pytest.raises(ValueError, match=r"color: uint8 array .*columns are not consecutive pixels"):
-        reproject.warp(colour[:, ::2], np.ascontiguousarray(depth[:, ::2]), **kw)
+        reproject.warp(color[:, ::2], np.ascontiguousarray(depth[:, ::2]), **kw)
     with pytest.raises(ValueError, match=r"color: .*channels of its pixels are not consecutive"):
-        reproject.warp(colour[..., ::-1], depth, **kw)  # BGRA seen as RGBA: a view numpy makes, the library cannot read
-    planes = np.ascontiguousarray(np.moveaxis(colour, -1, 0))
+        reproject.warp(color[..., ::-1], depth, **kw)  # BGRA seen as RGBA: a view numpy makes, the library cannot read
+    planes = np.ascontiguousarray(np.moveaxis(color, -1, 0))
     with pytest.raises(ValueError, match=r"color: .*not consecutive"):
         reproject.warp(np.moveaxis(planes, 0, -1), depth, **kw)
     with pytest.raises(ValueError, match=r"depth: .*columns are not consecutive"):
-        reproject.warp(colour[:, :H], np.ascontiguousarray(depth[:H, :H]).T, **kw)
+        reproject.warp(color[:, :H], np.ascontiguousarray(depth[:H, :H]).T, **kw)
     packed, packed_kw, _ = make_depth("rgba8_packed_linear", 1)
     with pytest.raises(ValueError, match=r"depth: .*channels of its pixels are not consecutive"):
-        reproject.warp(colour, packed[..., ::-1], **packed_kw, **STEREO)
+        reproject.warp(color, packed[..., ::-1], **packed_kw, **STEREO)
     # Rows in reverse order: a negative row stride, which the library refuses with its own message.
     with pytest.raises(ValueError, match="stride"):
-        reproject.warp(colour, depth[::-1], **kw)
+        reproject.warp(color, depth[::-1], **kw)
     with pytest.raises(ValueError, match="stride"):
-        reproject.warp(colour[::-1], depth, **kw)
+        reproject.warp(color[::-1], depth, **kw)
 
 
 def test_empty_frames_and_misaligned_float_rgba():
-    (colour, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
+    (color, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
     # An empty frame is no error for the library; numpy gives its arrays strides (0, 0), which must
     # not be mistaken for a layout the library cannot read.
     # (A model from separation and convergence needs the image width: an explicit one here.)
@@ -356,81 +356,81 @@ def test_empty_frames_and_misaligned_float_rgba():
 
 
 def test_wrong_dtypes_are_type_errors_listing_the_accepted():
-    (colour, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
-    for bad in (colour.astype(np.uint16), colour.astype(np.float64), colour.astype(np.int8)):
+    (color, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
+    for bad in (color.astype(np.uint16), color.astype(np.float64), color.astype(np.int8)):
         with pytest.raises(TypeError, match=r"color: expected a float32 array, got .*float32, and uint8 or float16 as "
                                             r"\(H, W, 4\) RGBA"):
             reproject.warp(bad, depth, **kw)
     for bad in (depth.astype(np.int16), depth.astype(np.float64), depth.astype(">u2"), depth.astype(np.uint64)):
         with pytest.raises(TypeError, match=r"depth: expected a float32 array, got .*uint16 \(D16 codes\) and uint32 "
                                             r"\(D24S8 words\) as \(H, W\), and uint8 as \(H, W, 4\)") as error:
-            reproject.warp(colour, bad, **kw)
+            reproject.warp(color, bad, **kw)
         # No cast is suggested: float32 depth is the stored value, so D16 codes cast to float would
         # be read as depths. Only the byte order has a lossless fix.
         assert "astype(numpy.float32)" not in str(error.value)
         assert ("byte order is not the machine's" in str(error.value)) == (bad.dtype == np.dtype(">u2")), error.value
     with pytest.raises(TypeError, match=r"depth_format='unorm16' reads a uint16 array in the machine's byte order, "
                                         r"got .*>u2.*newbyteorder\('='\)"):
-        reproject.warp(colour, depth.astype(">u2"), depth_format="unorm16", **kw)
+        reproject.warp(color, depth.astype(">u2"), depth_format="unorm16", **kw)
     with pytest.raises(TypeError, match=r"color: .*byte order is not the machine's"):
-        reproject.warp(colour.astype(np.float32).astype(">f4"), depth, **kw)
+        reproject.warp(color.astype(np.float32).astype(">f4"), depth, **kw)
     with pytest.raises(TypeError, match=r"depth: depth_format='unorm16' reads a uint16 array .*, got float32"):
-        reproject.warp(colour, depth.astype(np.float32), depth_format="unorm16", **kw)
+        reproject.warp(color, depth.astype(np.float32), depth_format="unorm16", **kw)
     with pytest.raises(TypeError, match=r"depth_format='unorm24_s8' reads a uint32 array .*, got uint16"):
-        reproject.warp(colour, depth, depth_format="unorm24_s8", **kw)
+        reproject.warp(color, depth, depth_format="unorm24_s8", **kw)
     with pytest.raises(TypeError, match=r"out.color: expected a uint8 array \(the source's dtype\), got float32"):
-        reproject.warp(colour, depth, out=np.zeros((H, W, 4), np.float32), **kw)
+        reproject.warp(color, depth, out=np.zeros((H, W, 4), np.float32), **kw)
     out = reproject.Result()
-    out.color, out.depth = np.zeros_like(colour), np.zeros((H, W), np.float32)
+    out.color, out.depth = np.zeros_like(color), np.zeros((H, W), np.float32)
     with pytest.raises(TypeError, match=r"out.depth: expected a uint16 array \(the source's dtype\), got float32"):
-        reproject.warp(colour, depth, out=out, **kw)
+        reproject.warp(color, depth, out=out, **kw)
 
 
 def test_what_the_dtype_does_not_say_is_asked_for():
-    (colour, d24, kw), _ = frame("rgba8", "unorm24_s8", seed=1)
+    (color, d24, kw), _ = frame("rgba8", "unorm24_s8", seed=1)
     del kw["depth_format"]
     with pytest.raises(ValueError, match=r"uint32 .*D24S8.*depth_format='unorm24_s8'.*depth_format='s8_unorm24'"):
-        reproject.warp(colour, d24, **kw)
+        reproject.warp(color, d24, **kw)
     packed, packed_kw, _ = make_depth("rgba8_packed_linear", 1)
     with pytest.raises(ValueError, match=r"depth_format='rgba8_packed_linear' and linear_range"):
-        reproject.warp(colour, packed, **STEREO)
+        reproject.warp(color, packed, **STEREO)
     with pytest.raises(ValueError, match=r"needs linear_range=\(near, far\)"):
-        reproject.warp(colour, packed, depth_format="rgba8_packed_linear", **STEREO)
+        reproject.warp(color, packed, depth_format="rgba8_packed_linear", **STEREO)
     with pytest.raises(ValueError, match=r"linear_range= is for depth_format='rgba8_packed_linear' only"):
-        reproject.warp(colour, d24, depth_format="s8_unorm24", linear_range=(1, 2), **kw)
+        reproject.warp(color, d24, depth_format="s8_unorm24", linear_range=(1, 2), **kw)
     with pytest.raises(ValueError, match=r"unknown depth_format 'd24'"):
-        reproject.warp(colour, d24, depth_format="d24", **kw)
+        reproject.warp(color, d24, depth_format="d24", **kw)
     with pytest.raises(ValueError, match=r"unknown color_space 'rgb'"):
-        reproject.warp(colour, d24, color_space="rgb", depth_format="s8_unorm24", **kw)
+        reproject.warp(color, d24, color_space="rgb", depth_format="s8_unorm24", **kw)
     with pytest.raises(ValueError, match=r"color_space='srgb' is for uint8 colour"):
-        reproject.warp(colour.astype(np.float16), d24, color_space="srgb", depth_format="s8_unorm24", **kw)
+        reproject.warp(color.astype(np.float16), d24, color_space="srgb", depth_format="s8_unorm24", **kw)
 
 
 def test_shapes_and_library_refusals_are_value_errors():
-    (colour, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
+    (color, depth, kw), _ = frame("rgba8", "unorm16", seed=1)
     with pytest.raises(ValueError, match=r"color: uint8 colour is RGBA: expected shape \(24, 80, 4\).*convert\('RGBA'\)"):
-        reproject.warp(colour[..., :3], depth, **kw)  # Pillow's RGB
+        reproject.warp(color[..., :3], depth, **kw)  # Pillow's RGB
     with pytest.raises(ValueError, match=r"color: float16 colour is RGBA"):
-        reproject.warp(colour.astype(np.float16)[:-1], depth, **kw)
+        reproject.warp(color.astype(np.float16)[:-1], depth, **kw)
     with pytest.raises(ValueError, match=r"depth: expected an \(H, W\) array"):
-        reproject.warp(colour, depth[..., None], **kw)
+        reproject.warp(color, depth[..., None], **kw)
     packed, packed_kw, _ = make_depth("rgba8_packed_linear", 1)
     with pytest.raises(ValueError, match=r"rgba8_packed_linear depth is an \(H, W, 4\) array"):
-        reproject.warp(colour, packed[..., :3], **packed_kw, **STEREO)
+        reproject.warp(color, packed[..., :3], **packed_kw, **STEREO)
     # The library's own checks, with its messages.
     for bad in ((1.0, 1.0), (0.0, float("inf")), (float("nan"), 1.0)):
         with pytest.raises(ValueError, match=r"source depth_buffer: rgba8_packed_linear range .* must be finite"):
-            reproject.warp(colour, packed, depth_format="rgba8_packed_linear", linear_range=bad, **STEREO)
+            reproject.warp(color, packed, depth_format="rgba8_packed_linear", linear_range=bad, **STEREO)
     with pytest.raises(ValueError, match="overlap"):
-        reproject.warp(colour, depth, out=colour, **kw)
+        reproject.warp(color, depth, out=color, **kw)
     out = reproject.Result()
     out.color = np.zeros((H, W - 1, 4), np.uint8)
     with pytest.raises(ValueError, match=r"out.color: expected shape \(24, 80, 4\)"):
-        reproject.warp(colour, depth, out=out, **kw)
-    out.color = np.zeros_like(colour)
+        reproject.warp(color, depth, out=out, **kw)
+    out.color = np.zeros_like(color)
     out.color.flags.writeable = False
     with pytest.raises(ValueError, match="out.color: the array is read-only"):
-        reproject.warp(colour, depth, out=out, **kw)
+        reproject.warp(color, depth, out=out, **kw)
 
 
 # ---- real data --------------------------------------------------------------------------------------

@@ -30,9 +30,9 @@ def structural_similarity():
 def skimage_ssim(structural_similarity, a, b, data_range, mask=None):
     """scikit-image's mean SSIM of a and b; with a mask, its full map averaged over the mask's
     pixels inside the crop (and over the channels)."""
-    colour = a.ndim == 3
+    color = a.ndim == 3
     mean, full = structural_similarity(a, b, gaussian_weights=True, sigma=1.5, use_sample_covariance=False,
-                                       data_range=data_range, channel_axis=2 if colour else None, full=True)
+                                       data_range=data_range, channel_axis=2 if color else None, full=True)
     if mask is None:
         return float(mean)
     inner = (slice(RADIUS, -RADIUS), slice(RADIUS, -RADIUS))

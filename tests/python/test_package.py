@@ -228,7 +228,7 @@ def test_the_metrics_stub_too():
 
 
 def test_the_calls_have_the_compiled_functions_signatures():
-    # The Python faces (src/python/reproject/*.py) and the functions they call: same parameters,
+    # The Python faces (python/reproject/*.py) and the functions they call: same parameters,
     # kinds and defaults, so a keyword added in C++ and not in Python (or the reverse) fails here.
     functions = [getattr(reproject, n) for n in reproject.__all__] + [reproject.metrics.psnr, reproject.metrics.ssim]
     faces = [f for f in functions if inspect.isfunction(f)]

@@ -78,3 +78,19 @@ def test_dilate_nearer_depth(room):
     assert reproject.dilate_nearer_depth(room.depth, room.decoder, radius, out=again) is again
     with pytest.raises(ValueError):
         reproject.dilate_nearer_depth(room.depth, room.decoder, -1)
+
+
+def test_a_renderers_rig_and_relative_inverse_depth():
+    # Blender's defaults: interocular 0.065, convergence 1.95, a 50 mm lens on a 36 mm sensor.
+    fov = 2 * math.atan(18 / 50)
+    rig = reproject.StereoCamera.from_rig(0.065, 1.95, fov)
+    assert rig.separation == pytest.approx(0.065 / (2 * 1.95 * 0.36), rel=1e-12) and rig.convergence == 1.95
+    assert rig.eye_translation(fov) == pytest.approx(0.0325, rel=1e-12)
+    with pytest.raises(ValueError, match="horizontal_fov in \\(0, pi\\)"):
+        reproject.StereoCamera.from_rig(0.065, 1.95, math.pi)
+    # Relative inverse depth, decoded as w = v: 4 % of 1000 px from v = 0 to 1, zero at v = 0.25.
+    model = reproject.ParallaxModel.from_relative(0.04, 0.25, 1000, "left-to-right")
+    v = np.array([0.0, 0.25, 1.0], np.float32)
+    assert model.parallax(reproject.Decoder.disparity().inverse_depth(v)).tolist() == [10.0, 0.0, -30.0]
+    with pytest.raises(ValueError, match="zero-parallax plane must be in 0..1"):
+        reproject.ParallaxModel.from_relative(0.04, 1.25, 1000, "left-to-right")

@@ -32,7 +32,7 @@ def test_mypy_passes_on_the_examples_and_the_typed_calls(tmp_path):
     completed = mypy(tmp_path)
     print(completed.stdout, completed.stderr)
     assert completed.returncode == 0
-    assert completed.stdout.startswith("Success: no issues found in 2 source files")
+    assert completed.stdout.startswith("Success: no issues found in 3 source files")
 
 
 def test_mypy_refuses_what_the_stubs_refuse(tmp_path):

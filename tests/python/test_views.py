@@ -52,7 +52,7 @@ ARCHES = [a for a in reproject.arches if reproject.arch_supported(a)]
 
 @pytest.mark.parametrize("arch", ARCHES)
 @pytest.mark.parametrize("channels", [1, 2, 3, 4])
-def test_every_colour_form_gives_the_same_pixels(channels, arch):
+def test_every_color_form_gives_the_same_pixels(channels, arch):
     color, depth = frame(channels=channels)
     reference = reproject.warp(np.ascontiguousarray(np.moveaxis(color, -1, 0)), depth, arch=arch, **KW)  # planes
     assert reference.color.shape == (channels, H, W)

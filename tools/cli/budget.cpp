@@ -42,13 +42,13 @@ constexpr Rgb kZero = {220, 220, 220};
 // A vertical line at parallax `p` and what it stands for.
 struct Mark {
   double p;
-  Rgb colour;
+  Rgb color;
   bool dashed;
   std::string name;
 };
 // A legend entry: a swatch and its meaning.
 struct Key {
-  Rgb colour;
+  Rgb color;
   std::string text;
 };
 
@@ -113,14 +113,14 @@ Image histogram_picture(const ParallaxBudget& b, const std::vector<std::int64_t>
     int x1 = kPlotLeft + static_cast<int>(static_cast<long>(i + 1) * plot_w / bins);
     if (x1 - x0 >= 4) --x1;  // a one-pixel gap between wide bars
     const double centre = lo + (i + 0.5) * (hi - lo) / bins;
-    Rgb colour = kComfortable;
-    if (centre < half_convergence_p) colour = kNearer;
-    else if (centre > far_p) colour = kFarther;
-    else if (std::fabs(centre) > b.parallax_limit) colour = kBeyondLimit;
+    Rgb color = kComfortable;
+    if (centre < half_convergence_p) color = kNearer;
+    else if (centre > far_p) color = kFarther;
+    else if (std::fabs(centre) > b.parallax_limit) color = kBeyondLimit;
     const double share = static_cast<double>(counts[static_cast<std::size_t>(i)]) / static_cast<double>(peak);
     int height = static_cast<int>(std::lround(share * plot_h));
     if (counts[static_cast<std::size_t>(i)] > 0) height = std::max(height, 1);  // present, however few
-    canvas.fill(x0, kPlotBottom - height, std::max(x1, x0 + 1), kPlotBottom, colour);
+    canvas.fill(x0, kPlotBottom - height, std::max(x1, x0 + 1), kPlotBottom, color);
   }
 
   // Axes, ticks and their values.
@@ -148,7 +148,7 @@ Image histogram_picture(const ParallaxBudget& b, const std::vector<std::int64_t>
     }
     const int x = std::min(column_of(m.p, lo, hi), kPlotRight - 1);
     for (int y = kPlotTop; y < kPlotBottom; y += m.dashed ? 8 : plot_h) {
-      canvas.fill(x - 1, y, x + 1, m.dashed ? std::min(y + 5, kPlotBottom) : kPlotBottom, m.colour);
+      canvas.fill(x - 1, y, x + 1, m.dashed ? std::min(y + 5, kPlotBottom) : kPlotBottom, m.color);
     }
   }
 
@@ -156,7 +156,7 @@ Image histogram_picture(const ParallaxBudget& b, const std::vector<std::int64_t>
   canvas.text(8, 8, title, 2);
   int x = 8;
   for (const Key& k : keys) {
-    canvas.fill(x, 36, x + 10, 46, k.colour);
+    canvas.fill(x, 36, x + 10, 46, k.color);
     canvas.text(x + 14, 36, k.text);
     x += 14 + static_cast<int>(k.text.size()) * 6 + 4 + 16;
   }

@@ -192,6 +192,9 @@ void fail_if_interrupted();
 // Flags every reprojecting subcommand shares (appended to its own).
 std::vector<Flags::Spec> source_flags();  // --color --depth --encoding --near --far --depth-scale --unknown-depth
 std::vector<Flags::Spec> camera_flags(bool with_direction, bool with_disparity);
+// warp's and pair's other ways to the parallax: a renderer's rig (--interaxial, --fov) instead of
+// --separation, and relative inverse depth (--relative-depth, --max-parallax, --zero-plane).
+std::vector<Flags::Spec> rig_flags();
 std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool with_threads_arch);
 
 // A source depth buffer in an engine's format, read from a .raw file (--depth-format).

@@ -172,15 +172,15 @@ void agreement(const Target& out, const Target& exact, Result* r) {
 
 // Outputs that differ by less than this everywhere (in 0..1) look the same: the methods that
 // are exact to rounding (scanline, secant) share one row of the mosaic with exact.
-constexpr float kSameColour = 1.0f / 1024.0f;
+constexpr float kSameColor = 1.0f / 1024.0f;
 
-bool same_colour(const Image& a, const Image& b) {
+bool same_color(const Image& a, const Image& b) {
   for (int c = 0; c < a.channels(); ++c) {
     for (int y = 0; y < a.height(); ++y) {
       const float* pa = a.plane_data(c) + y * a.stride();
       const float* pb = b.plane_data(c) + y * b.stride();
       for (int x = 0; x < a.width(); ++x) {
-        if (!(std::fabs(pa[x] - pb[x]) < kSameColour)) return false;
+        if (!(std::fabs(pa[x] - pb[x]) < kSameColor)) return false;
       }
     }
   }
@@ -667,7 +667,7 @@ int run_compare(int argc, char** argv) {
       const std::size_t i = static_cast<std::size_t>(std::find(quality_order.begin(), quality_order.end(), m) - quality_order.begin());
       bool merged = false;
       for (std::size_t k = 0; k < shown.size(); ++k) {
-        if (same_colour(outputs[shown[k]].color, outputs[i].color)) {
+        if (same_color(outputs[shown[k]].color, outputs[i].color)) {
           row_names[k] += std::string(" ~ ") + to_string(m);
           merged = true;
           break;
@@ -676,7 +676,7 @@ int run_compare(int argc, char** argv) {
       if (merged) continue;
       shown.push_back(i);
       row_names.push_back(to_string(m));
-      if (same_colour(outputs[i].color, outputs.front().color)) continue;  // no worse than exact
+      if (same_color(outputs[i].color, outputs.front().color)) continue;  // no worse than exact
       for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
           const std::size_t p = static_cast<std::size_t>(y) * w + x;

@@ -9,7 +9,7 @@ namespace reproject::cli {
 namespace {
 
 // The colour channels of a planar Image (its planes are one allocation, plane_data(c) apart).
-FloatSamples colour_samples(const Image& image, int channels) {
+FloatSamples color_samples(const Image& image, int channels) {
   const std::ptrdiff_t plane = channels > 1 ? image.plane_data(1) - image.plane_data(0) : 0;
   return FloatSamples::planar(image.plane_data(0), image.width(), image.height(), channels, image.stride(), plane);
 }
@@ -38,7 +38,7 @@ double mean_absolute_error(const Image& a, const Image& b, int channels, const s
 Quality score(const Image& image, const Image& truth, const std::vector<std::uint8_t>& visible) {
   Quality q;
   const int channels = std::min({image.channels(), truth.channels(), 3});
-  const FloatSamples a = colour_samples(image, channels), b = colour_samples(truth, channels);
+  const FloatSamples a = color_samples(image, channels), b = color_samples(truth, channels);
   QualityOptions whole_frame;
   QualityOptions visible_only;
   visible_only.mask = PlaneView<const std::uint8_t>{visible.data(), image.width(), image.height(), image.width()};

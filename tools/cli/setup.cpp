@@ -39,6 +39,18 @@ std::vector<Flags::Spec> camera_flags(bool with_direction, bool with_disparity) 
   return specs;
 }
 
+std::vector<Flags::Spec> rig_flags() {
+  return {
+      {"interaxial", "D", "a renderer's rig: the eyes' distance, in the unit of --convergence (with --fov, instead of "
+                          "--separation)"},
+      {"fov", "DEG", "the rig camera's horizontal field of view in degrees, (0, 180): S = D / (2 C tan(fov / 2))"},
+      {"relative-depth", nullptr, "depth is relative inverse depth (a depth model's output): 0 farthest .. 1 nearest, "
+                                  "after --depth-scale [PNG: 1 / its largest code]"},
+      {"max-parallax", "F", "--relative-depth: the eyes' parallax from 0 to 1, a fraction of the width [0.03]"},
+      {"zero-plane", "V", "--relative-depth: the relative value seen on the screen (zero parallax), 0..1 [0.5]"},
+  };
+}
+
 std::string arch_names(const char* last_separator) {
   std::string names;
   for (int a = 0; a < kArchCount; ++a) {
@@ -102,6 +114,11 @@ bool needs_far(DepthEncoding e) {
 }
 
 DepthEncoding encoding_from_flags(const Flags& flags) {
+  if (flags.has("relative-depth")) {
+    flags.forbid("encoding", "--relative-depth (relative inverse depth is decoded as w = v)");
+    flags.forbid("disparity", "--relative-depth");
+    return DepthEncoding::disparity;  // w = d: docs/BEHAVIOUR.md "Relative inverse depth"
+  }
   const bool disparity = flags.has("disparity");
   if (!flags.has("encoding")) {
     if (disparity) return DepthEncoding::disparity;
@@ -148,6 +165,17 @@ ParallaxModel model_from_flags(const Flags& flags, int width, EyeDirection* dire
     }
   }
   if (direction_out != nullptr) *direction_out = direction;
+  if (flags.has("relative-depth")) {
+    for (const char* f : {"separation", "convergence", "interaxial", "fov"}) {
+      flags.forbid(f, "--relative-depth (--max-parallax and --zero-plane set the parallax)");
+    }
+    const double max_parallax = flags.number("max-parallax", 0.03, 0.0, 1.0);
+    const double zero_plane = flags.number("zero-plane", 0.5, 0.0, 1.0);
+    return ParallaxModel::from_relative(max_parallax, zero_plane, width, direction);
+  }
+  for (const char* f : {"max-parallax", "zero-plane"}) {
+    if (flags.has(f)) fail(kExitUsage, std::string("--") + f + " needs --relative-depth");
+  }
   if (disparity) {
     flags.forbid("separation", "a disparity map (the disparity is the parallax)");
     flags.forbid("convergence", "a disparity map (the disparity is the parallax)");
@@ -157,8 +185,20 @@ ParallaxModel model_from_flags(const Flags& flags, int width, EyeDirection* dire
     return ParallaxModel::from_disparity(direction);
   }
   flags.require("convergence");
-  const double separation = flags.number("separation", 0.03, 0.0, 1.0);
   const double convergence = flags.number("convergence", 0.0, 0.0, HUGE_VAL, true);
+  double separation = 0.0;
+  if (flags.has("interaxial") || flags.has("fov")) {
+    flags.forbid("separation", "--interaxial and --fov (the rig gives the separation)");
+    if (!flags.has("interaxial")) fail(kExitUsage, "--fov needs --interaxial D");
+    if (!flags.has("fov")) fail(kExitUsage, "--interaxial needs --fov DEG");
+    const double interaxial = flags.number("interaxial", 0.0, 0.0, HUGE_VAL);
+    const double fov = flags.number("fov", 0.0, 0.0, 180.0, true);
+    if (!(fov < 180.0)) flags.bad_value("fov", "'" + flags.text("fov") + "' is not below 180");
+    constexpr double kPi = 3.14159265358979323846;
+    separation = StereoCamera::from_rig(interaxial, convergence, fov * kPi / 180.0).separation;
+  } else {
+    separation = flags.number("separation", 0.03, 0.0, 1.0);
+  }
   const ParallaxModel model = StereoCamera{separation, convergence}.parallax(width, direction);
   if (Status s = model.validate(); !s.ok()) fail(kExitUsage, std::string("--separation/--convergence: ") + s.message());
   return model;
@@ -273,7 +313,12 @@ long fill_unknown_depth(Image* depth, const std::vector<std::uint8_t>& unknown, 
 
 DepthFile load_depth(const Flags& flags, const DepthDecoder& decoder) {
   flags.require("depth");
-  const double scale = flags.number("depth-scale", 1.0, 0.0, HUGE_VAL, true);
+  // Relative inverse depth is 0..1: a PNG's integers are read as a fraction of its largest code.
+  double default_scale = 1.0;
+  if (flags.has("relative-depth") && io::format_from_path(flags.text("depth")) == io::FileFormat::png) {
+    default_scale = 1.0 / ((1 << depth_info(flags.text("depth")).bit_depth) - 1);
+  }
+  const double scale = flags.number("depth-scale", default_scale, 0.0, HUGE_VAL, true);
   bool unknown_is_nan = false;
   float unknown_value = 0.0f;
   if (flags.has("unknown-depth")) {

@@ -153,9 +153,11 @@ std::vector<Flags::Spec> frame_flags(bool warp) {
   std::vector<Flags::Spec> specs = source_flags();
   const auto native = native_flags();
   const auto camera = camera_flags(warp, warp);
+  const auto rig = rig_flags();
   const auto options = option_flags(true, true, true);
   specs.insert(specs.end(), native.begin(), native.end());
   specs.insert(specs.end(), camera.begin(), camera.end());
+  specs.insert(specs.end(), rig.begin(), rig.end());
   specs.insert(specs.end(), options.begin(), options.end());
   return specs;
 }

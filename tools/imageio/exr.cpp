@@ -319,8 +319,8 @@ IoStatus read_packed_color(const std::string& path, Imf::InputFile& file, const 
     const Imath::Box2i rows(Imath::V2i(window.min.x, y0), Imath::V2i(window.max.x, y1));
     const std::size_t row_bytes = pixel * static_cast<std::size_t>(width);
     Imf::FrameBuffer frame;
-    const int colour_slots = grey ? 1 : 3;  // grey goes to R and is copied to G and B below
-    for (int c = 0; c < colour_slots; ++c) {
+    const int color_slots = grey ? 1 : 3;  // grey goes to R and is copied to G and B below
+    for (int c = 0; c < color_slots; ++c) {
       frame.insert(names[static_cast<std::size_t>(c)],
                    Imf::Slice::Make(Imf::HALF, base + c * sizeof(half), rows, pixel, row_bytes));
     }

@@ -1,4 +1,4 @@
-// warp's outputs (src/python/warp.cpp): one eye's arrays, new or the caller's (`out=`), as the
+// warp's outputs (python/warp.cpp): one eye's arrays, new or the caller's (`out=`), as the
 // library's TargetView, written in place. New arrays come in the source's dtypes and form; the
 // caller's are checked first (outputs.hpp), with messages that name the field and the fix.
 #pragma once

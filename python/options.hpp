@@ -1,4 +1,4 @@
-// warp's keyword arguments as the library's objects (src/python/warp.cpp): the depth decoder
+// warp's keyword arguments as the library's objects (python/warp.cpp): the depth decoder
 // (decoder=, or encoding=, near=, far=), the parallax model (model=, or separation=,
 // convergence=, direction=) and Options (method=, hole_fill=, ...). Names are parsed by the
 // library (names.hpp); a combination that cannot mean anything is a ValueError that says why.

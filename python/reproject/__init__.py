@@ -57,7 +57,7 @@ PickSource = Literal["both", "left", "right", "none"]
 del Literal
 
 __all__ = [
-    "metrics",
+    "metrics", "video",
     # options' names
     "Method", "Arch", "HoleFill", "EdgeMode", "Encoding", "Direction", "DepthFormat", "ColorSpace", "Eye", "SceneName",
     "PickSource", "methods", "arches", "scenes",
@@ -255,13 +255,15 @@ def dilate_nearer_depth(depth, decoder, radius, *, out=None):
 
 @_forwards_to(_reproject.scene)
 def scene(name="room", width=960, height=540, *, fov=60.0, encoding="standard", separation=None, convergence=None,
-          threads=0):
+          offset=0.0, threads=0):
     """Ray-casts a built-in scene for the centre, left and right eyes: a SceneViews.
 
     name: SceneName ('room', the default: all of the below in one room; 'boxes', 'pole',
     'spheres', 'near', 'edge'); width, height: pixels, 1..16384; fov: the horizontal field of view
     in degrees; encoding: how the depth is stored (Encoding, not 'disparity'); separation,
-    convergence: the stereo camera (None: the scene's own: 0.03 and 3.5); threads: as warp's.
+    convergence: the stereo camera (None: the scene's own: 0.03 and 3.5); offset: the whole rig moved
+    sideways by this many interaxials (each eye's sigma shifted, the convergence plane kept: a camera
+    path, as reproject.video.scene_video renders it); threads: as warp's.
     Warp s.color, s.depth with decoder=s.decoder and separation=s.camera.separation,
     convergence=s.camera.convergence to compare with s.left / s.right on s.left_visible /
     s.right_visible. GIL released while it renders.
@@ -269,3 +271,4 @@ def scene(name="room", width=960, height=540, *, fov=60.0, encoding="standard", 
 
 
 from . import metrics  # noqa: E402  (after the names it documents; it imports nothing from here)
+from . import video  # noqa: E402  (PyAV, Dask and tqdm are imported when it runs, not here)

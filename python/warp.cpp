@@ -2,7 +2,7 @@
 // Result classes. The arrays are passed to the library as views (sources.hpp, targets.hpp); the
 // library's own validation decides what is valid, and its message becomes a ValueError. The GIL
 // is released while the kernels run, and Ctrl-C stops a call (interrupt.hpp). The arguments are
-// documented once, on the package's wrappers (src/python/reproject/__init__.py).
+// documented once, on the package's wrappers (python/reproject/__init__.py).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

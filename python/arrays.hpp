@@ -1,4 +1,4 @@
-// NumPy arrays as the library's views, without copying (src/python/sources.cpp, targets.cpp, ...).
+// NumPy arrays as the library's views, without copying (python/sources.cpp, targets.cpp, ...).
 //
 // The library reads planes whose pixels are consecutive floats and whose rows start `stride`
 // floats apart, one interleaved RGBA plane (4 consecutive floats a pixel), or an engine-native

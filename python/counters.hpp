@@ -1,4 +1,4 @@
-// Test-only counters of the Python module (src/python/): how many calls are inside the
+// Test-only counters of the Python module (python/): how many calls are inside the
 // GIL-released region at once, and an optional rendezvous that holds each call there until `n`
 // calls are inside (or a timeout passes), so that a test proves two Python threads run the library
 // together without measuring time (tests/python/test_gil.py, test_metrics.py). warp's calls and

@@ -4,6 +4,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -174,6 +175,15 @@ void bind_models(py::module_& m) {
              py::arg("direction") = "left-to-right",
              "For a disparity map in pixels (Decoder.disparity()): p = -d left-to-right (the default), p = +d "
              "right-to-left.");
+  def_static(model, "from_relative",
+             [](double max_parallax, double zero_plane, int width, const std::string& direction) {
+               return checked(ParallaxModel::from_relative(max_parallax, zero_plane, width, direction_of(direction)));
+             },
+             py::arg("max_parallax"), py::arg("zero_plane"), py::arg("width"), py::arg("direction"),
+             "For relative inverse depth v (a monocular depth model's output, 0 farthest .. 1 nearest; "
+             "Decoder.disparity() decodes it as w = v): p = sigma max_parallax width (zero_plane - v). max_parallax, "
+             "a fraction of the width (>= 0), is the parallax between the eyes from v = 0 to v = 1; zero_plane (0..1) "
+             "is the v seen on the screen.");
   model.def("__repr__", [](const ParallaxModel& p) {
     return "ParallaxModel(a=" + py::repr(py::float_(p.a)).cast<std::string>() +
            ", b=" + py::repr(py::float_(p.b)).cast<std::string>() + ")";
@@ -192,6 +202,18 @@ void bind_models(py::module_& m) {
   def_static(camera, "from_physical", &StereoCamera::from_physical, py::arg("interocular"), py::arg("screen_width"),
              py::arg("convergence"),
              "S = interocular / screen_width (both in one length unit), c = convergence (view-space units).");
+  def_static(camera, "from_rig",
+             [](double interaxial, double convergence, double horizontal_fov) {
+               const StereoCamera c = StereoCamera::from_rig(interaxial, convergence, horizontal_fov);
+               if (!std::isfinite(c.separation)) {
+                 throw py::value_error("StereoCamera.from_rig: interaxial must be finite and >= 0, convergence finite "
+                                       "and > 0, horizontal_fov in (0, pi) radians");
+               }
+               return c;
+             },
+             py::arg("interaxial"), py::arg("convergence"), py::arg("horizontal_fov"),
+             "A renderer's stereo rig (Blender: interocular distance, convergence distance, the camera's horizontal "
+             "field of view in radians): S = interaxial / (2 convergence tan(horizontal_fov / 2)), c = convergence.");
   def_method(camera, "eye_translation", &StereoCamera::eye_translation, py::arg("horizontal_fov"),
              "The eyes' horizontal offset from the centre camera, in view units, for a horizontal field of view in "
              "radians.");

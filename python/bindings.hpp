@@ -1,4 +1,4 @@
-// The parts of the extension module reproject._reproject, one function a file (src/python/);
+// The parts of the extension module reproject._reproject, one function a file (python/);
 // module.cpp calls them in this order.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Names <-> the library's enums for the Python module (src/python/): every option given by name
+// Names <-> the library's enums for the Python module (python/): every option given by name
 // (method=, hole_fill=, edge=, arch=, encoding=, direction=, depth_format=) is parsed by the
 // library's own parser (reproject.hpp, depth.hpp, parallax.hpp, formats.hpp), and an unknown name
 // is a ValueError that lists the valid ones, read from the library's name table (to_string), so

@@ -1,4 +1,4 @@
-// The compiled part of the Python package `reproject` (src/python/reproject/): the extension
+// The compiled part of the Python package `reproject` (python/reproject/): the extension
 // module reproject._reproject, pybind11 over the library, one part a file. The package's
 // __init__.py gives its functions their signatures and documentation, and __init__.pyi its types.
 #include <pybind11/pybind11.h>

@@ -1,5 +1,5 @@
 // reproject.metrics: PSNR and SSIM (include/reproject/metrics.hpp) over NumPy arrays, documented
-// on the package's wrappers (src/python/reproject/metrics.py).
+// on the package's wrappers (python/reproject/metrics.py).
 //
 // The arrays are read in place, whatever their strides (the library takes a row, a pixel and a
 // channel stride), as long as the strides are whole, positive numbers of elements; anything else

@@ -1,4 +1,4 @@
-// Ctrl-C during a long call (src/python/warp.cpp). Python runs its signal handlers (the one
+// Ctrl-C during a long call (python/warp.cpp). Python runs its signal handlers (the one
 // that raises KeyboardInterrupt among them) only on the main thread and only between bytecodes,
 // so a call that runs the kernels on the main thread answers Ctrl-C when it returns, seconds
 // later for a large frame. run_interruptible runs such a call on a helper thread instead, with

@@ -1,4 +1,4 @@
-// warp's inputs (src/python/warp.cpp): the colour and depth arrays as the library's SourceView,
+// warp's inputs (python/warp.cpp): the colour and depth arrays as the library's SourceView,
 // in place. The dtype says the format (float32, or an engine's buffer: formats.hpp), the shape
 // the colour's form (arrays.hpp); packed (H, W, 2|3) float colour is the one layout copied.
 #pragma once

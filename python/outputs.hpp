@@ -1,5 +1,5 @@
 // The caller's output arrays (`out=`, a Result of an earlier call), checked before the call with
-// messages that name the field, say what it holds, what fits, and the fix (src/python/targets.cpp).
+// messages that name the field, say what it holds, what fits, and the fix (python/targets.cpp).
 #pragma once
 
 #include <pybind11/numpy.h>

@@ -1,4 +1,4 @@
-// Arguments that pybind11 cannot convert, named (src/python/). def_function, def_static,
+// Arguments that pybind11 cannot convert, named (python/). def_function, def_static,
 // def_method and def_init bind like m.def, cls.def_static, cls.def and cls.def(py::init(...)),
 // with the same signature and docstring; but when pybind11 refuses the arguments of a call (a list
 // where an array goes, a string for a number, an int beyond 32 bits, an unknown keyword), the

@@ -61,7 +61,7 @@ py::tuple scene_names() {
 }
 
 SceneViews make_scene(const std::string& name, int width, int height, double fov_degrees, const std::string& encoding,
-                      std::optional<double> separation, std::optional<double> convergence, int threads) {
+                      std::optional<double> separation, std::optional<double> convergence, double offset, int threads) {
   scene::SceneId id{};
   if (!scene::parse_scene(name.c_str(), &id)) {
     std::string names;
@@ -83,6 +83,9 @@ SceneViews make_scene(const std::string& name, int width, int height, double fov
         std::isfinite(camera.stereo.convergence) && camera.stereo.convergence > 0.0)) {
     throw py::value_error("separation must be finite and >= 0, convergence finite and > 0");
   }
+  if (!std::isfinite(offset) || std::abs(offset) > 1000.0) {
+    throw py::value_error("offset must be finite and within 1000 interaxials");
+  }
   SceneViews out;
   out.name = s.name();
   out.width = width;
@@ -94,7 +97,8 @@ SceneViews make_scene(const std::string& name, int width, int height, double fov
   std::vector<std::uint8_t> visible[2];
   {
     py::gil_scoped_release release;  // ray casting takes a while at full HD
-    const double sigmas[3] = {scene::kCentreEye, scene::kLeftEye, scene::kRightEye};
+    // The rig moved sideways by `offset` interaxials (each eye's sigma shifted): a camera path.
+    const double sigmas[3] = {scene::kCentreEye + offset, scene::kLeftEye + offset, scene::kRightEye + offset};
     for (int i = 0; i < 3; ++i) {
       const Status status = s.render(camera.with_eye(sigmas[i]), &views[i], threads);
       if (!status.ok()) {
@@ -103,7 +107,8 @@ SceneViews make_scene(const std::string& name, int width, int height, double fov
       }
     }
     for (int i = 0; i < 2; ++i) {
-      const Status status = s.visible_in_both(camera.with_eye(sigmas[i + 1]), camera, &visible[i], threads);
+      const Status status =
+          s.visible_in_both(camera.with_eye(sigmas[i + 1]), camera.with_eye(sigmas[0]), &visible[i], threads);
       if (!status.ok()) {
         py::gil_scoped_acquire acquire;
         raise_if_failed(status);
@@ -151,7 +156,7 @@ void bind_scenes(py::module_& m) {
       });
   def_function(m, "scene", &make_scene, py::arg("name") = "room", py::arg("width") = 960, py::arg("height") = 540,
         py::kw_only(), py::arg("fov") = 60.0, py::arg("encoding") = "standard", py::arg("separation") = py::none(),
-        py::arg("convergence") = py::none(), py::arg("threads") = 0,
+        py::arg("convergence") = py::none(), py::arg("offset") = 0.0, py::arg("threads") = 0,
         "The compiled reproject.scene (documented there).");
   m.attr("scenes") = scene_names();
 }

@@ -1,0 +1,156 @@
+// The arch layer's one-pixel-per-register operations (Pixel4: float RGBA and rgba16f colour)
+// against their contracts (kernels/arch_layer.hpp), stated as scalar code
+// (tests/arch_layer/checks.hpp). Half floats are checked for all 65,536 codes one way and around
+// every code's rounding boundaries the other.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "kernels/codes.hpp"
+#include "kernels/simd.hpp"
+#include "tests/arch_layer/sets.hpp"
+#include "tests/arch_layer/values.hpp"
+
+namespace reproject::test {
+namespace {
+
+inline void pixel_lanes(detail::Pixel4 p, std::uint32_t* out) { std::memcpy(out, &p, 16); }
+inline detail::Pixel4 pixel_of(const std::uint32_t* lanes) {
+  detail::Pixel4 p;
+  std::memcpy(&p, lanes, 16);
+  return p;
+}
+
+template <class Arch>
+Outcome check_pixel4() {
+  Outcome out;
+  std::uint32_t got[4];
+  for (std::uint32_t v : special_values()) {
+    pixel_lanes(detail::pixel4_splat(value_of_bits(v)), got);
+    for (int c = 0; c < 4; ++c) {
+      ++out.lanes;
+      if (got[c] != v) out.fail(lane_text(c) + "pixel4_splat(" + show(v) + ") = " + show(got[c]));
+    }
+  }
+  pixel_lanes(detail::pixel4_zero(), got);
+  for (int c = 0; c < 4; ++c) {
+    ++out.lanes;
+    if (got[c] != 0u) out.fail(lane_text(c) + "pixel4_zero() = " + show(got[c]));
+  }
+  // Loads and stores at every byte offset within 16, surrounded by a sentinel.
+  std::uint8_t buffer[64];
+  for (int offset = 0; offset < 16; ++offset) {
+    for (std::size_t first = 0; first < special_values().size(); first += 4) {
+      std::uint32_t pixel[4];
+      for (int c = 0; c < 4; ++c) pixel[c] = special_at(first + static_cast<std::size_t>(c));
+      for (std::size_t k = 0; k < sizeof buffer; ++k) buffer[k] = static_cast<std::uint8_t>(0x71 + 3 * k);
+      std::memcpy(buffer + 16 + offset, pixel, 16);
+      pixel_lanes(detail::load_float4(buffer + 16 + offset), got);
+      for (int c = 0; c < 4; ++c) {
+        ++out.lanes;
+        if (got[c] != pixel[c]) out.fail(lane_text(c) + "load_float4 at offset " + std::to_string(offset) + " = " + show(got[c]));
+      }
+      for (std::size_t k = 0; k < sizeof buffer; ++k) buffer[k] = static_cast<std::uint8_t>(0x71 + 3 * k);
+      detail::store_float4(buffer + 16 + offset, pixel_of(pixel));
+      for (std::size_t k = 0; k < sizeof buffer; ++k) {
+        const std::ptrdiff_t byte = static_cast<std::ptrdiff_t>(k) - 16 - offset;
+        std::uint8_t want = static_cast<std::uint8_t>(0x71 + 3 * k);
+        if (byte >= 0 && byte < 16) want = reinterpret_cast<const std::uint8_t*>(pixel)[byte];
+        ++out.lanes;
+        if (buffer[k] != want) out.fail("store_float4 at offset " + std::to_string(offset) + ": byte " + std::to_string(byte) + " wrong");
+      }
+    }
+  }
+  return out;
+}
+
+template <class Fma>
+void check_lerp4_policy(Outcome& out, const char* policy) {
+  every_tuple_in_every_lane<4, 3>(special_values(), [&](const std::uint32_t* frac, const std::uint32_t* c0,
+                                                        const std::uint32_t* c1) {
+    std::uint32_t got[4];
+    pixel_lanes(detail::lerp4<Fma>(pixel_of(frac), pixel_of(c0), pixel_of(c1)), got);
+    for (int c = 0; c < 4; ++c) {
+      const float f = value_of_bits(frac[c]), a = value_of_bits(c0[c]), b = value_of_bits(c1[c]);
+      const float d = b - a;
+      const std::uint32_t want = bits_of_value(madd_contract<Fma>(f, d, a));
+      const bool inf_times_zero = (std::isinf(f) && d == 0.0f) || (f == 0.0f && std::isinf(d));
+      ++out.lanes;
+      if (!arithmetic_matches(want, got[c], {frac[c], bits_of_value(d), c0[c]}, !inf_times_zero)) {
+        out.fail(lane_text(c) + "lerp4<" + policy + ">(" + show(frac[c]) + ", " + show(c0[c]) + ", " + show(c1[c]) + ") = " +
+                 show(got[c]) + ", contract " + show(want));
+      }
+    }
+  });
+}
+
+template <class Arch, class Fma>
+Outcome check_lerp4() {
+  Outcome out;
+  check_lerp4_policy<Fma>(out, std::is_same<Fma, Fused>::value ? "Fused" : "Unfused");
+  if constexpr (std::is_same<Fma, Fused>::value) check_lerp4_policy<Unfused>(out, "Unfused");
+  return out;
+}
+
+template <class Arch>
+Outcome check_load_half4() {
+  Outcome out;
+  std::uint8_t buffer[16];
+  for (std::uint32_t first = 0; first < 65536; first += 4) {
+    for (int c = 0; c < 4; ++c) detail::store_u16_at(buffer + 3 + 2 * c, static_cast<std::uint16_t>(first + c));
+    std::uint32_t got[4];
+    pixel_lanes(detail::load_half4(buffer + 3), got);
+    for (int c = 0; c < 4; ++c) {
+      const std::uint32_t want = bits_of_value(detail::half_to_float(static_cast<std::uint16_t>(first + c)));
+      ++out.lanes;
+      if (got[c] != want) {
+        out.fail(lane_text(c) + "load_half4 of code " + std::to_string(first + c) + " = " + show(got[c]) + ", contract " + show(want));
+      }
+    }
+  }
+  return out;
+}
+
+template <class Arch>
+Outcome check_store_half4() {
+  Outcome out;
+  // Every half's value, the floats either side of it, and the ties halfway to the next half with
+  // their neighbours; then the specials.
+  std::vector<std::uint32_t> values;
+  for (std::uint32_t h = 0; h < 0x7c00; ++h) {
+    for (std::uint32_t sign : {0u, 0x8000u}) {
+      const float v = detail::half_to_float(static_cast<std::uint16_t>(h | sign));
+      const float next = detail::half_to_float(static_cast<std::uint16_t>((h + 1) | sign));
+      const std::uint32_t tie = bits_of_value(v + (next - v) * 0.5f);  // exact: halves have 11 bits
+      for (std::uint32_t b : {bits_of_value(v), bits_of_value(v) + 1, tie - 1, tie, tie + 1}) values.push_back(b);
+      if (bits_of_value(v) & 0x7fffffffu) values.push_back(bits_of_value(v) - 1);
+    }
+  }
+  values.insert(values.end(), special_values().begin(), special_values().end());
+  std::uint8_t buffer[16];
+  for (std::size_t first = 0; first < values.size(); first += 4) {
+    std::uint32_t pixel[4];
+    for (int c = 0; c < 4; ++c) pixel[c] = values[(first + static_cast<std::size_t>(c)) % values.size()];
+    std::memset(buffer, 0x99, sizeof buffer);
+    detail::store_half4(buffer + 1, pixel_of(pixel));
+    for (int c = 0; c < 4; ++c) {
+      const std::uint16_t want = detail::float_to_half(value_of_bits(pixel[c]));
+      const std::uint16_t got = detail::load_u16_at(buffer + 1 + 2 * c);
+      ++out.lanes;
+      if (got != want) {
+        out.fail(lane_text(c) + "store_half4(" + show(pixel[c]) + ") = code " + std::to_string(got) + ", contract " +
+                 std::to_string(want));
+      }
+    }
+    if (buffer[0] != 0x99 || buffer[9] != 0x99) out.fail("store_half4 wrote outside its 8 bytes");
+  }
+  return out;
+}
+
+}  // namespace
+}  // namespace reproject::test

@@ -1,0 +1,51 @@
+// One instruction set's test objects (tests/arch_layer/sets.hpp), compiled once per set that CMake
+// compiles for this processor, with that set's flags and REPROJECT_TEST_SET naming it (sse, avx2,
+// avx512, neon): the arch layer's checks instantiated for the set's xsimd architecture and FMA
+// policy, and the set's kernel table built once more with a tally that counts fetch modes.
+#include <cstdint>
+
+#include "kernels/simd_table.hpp"
+#include "tests/arch_layer/checks.hpp"
+#include "tests/arch_layer/sets.hpp"
+
+#ifndef REPROJECT_TEST_SET
+#error "tests/CMakeLists.txt compiles this file with -DREPROJECT_TEST_SET=<set>"
+#endif
+#define REPROJECT_TEST_CONCAT_(a, b) a##b
+#define REPROJECT_TEST_CONCAT(a, b) REPROJECT_TEST_CONCAT_(a, b)
+#define REPROJECT_TEST_STRING_(a) #a
+#define REPROJECT_TEST_STRING(a) REPROJECT_TEST_STRING_(a)
+
+namespace reproject::test {
+namespace {
+
+constexpr Arch kSet = Arch::REPROJECT_TEST_SET;
+using SetArch = typename detail::InstructionSet<kSet>::arch;
+using SetFma = typename detail::InstructionSet<kSet>::fma;
+
+// The calling thread's counts; each resolved row adds its own.
+thread_local FetchModeCounts t_counts{};
+const FetchModeCounts* counts_of_thread() { return &t_counts; }
+
+struct CountingTally {
+  std::uint64_t vectors[4] = {};
+  void add(int mode) { ++vectors[mode]; }
+  void end_row() {
+    for (int m = 0; m < 4; ++m) t_counts.vectors[m] += vectors[m];
+  }
+};
+
+}  // namespace
+
+const ArchLayerChecks* REPROJECT_TEST_CONCAT(arch_layer_checks_, REPROJECT_TEST_SET)() {
+  static const ArchLayerChecks checks = make_arch_layer_checks<SetArch, SetFma>();
+  return &checks;
+}
+
+CountedTable REPROJECT_TEST_CONCAT(counted_kernels_, REPROJECT_TEST_SET)() {
+  static const detail::KernelTable table =
+      detail::make_simd_table<kSet, CountingTally>(REPROJECT_TEST_STRING(REPROJECT_TEST_SET) " (counting)");
+  return {&table, counts_of_thread};
+}
+
+}  // namespace reproject::test

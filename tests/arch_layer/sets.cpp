@@ -1,0 +1,46 @@
+// Each set's test objects (tests/arch_layer/set.cpp) by Arch; tests/CMakeLists.txt defines
+// REPROJECT_TEST_SET_<set> here for every set it compiled.
+#include "tests/arch_layer/sets.hpp"
+
+namespace reproject::test {
+
+#define REPROJECT_TEST_DECLARE_SET(set)              \
+  const ArchLayerChecks* arch_layer_checks_##set(); \
+  CountedTable counted_kernels_##set();
+REPROJECT_TEST_DECLARE_SET(sse)
+REPROJECT_TEST_DECLARE_SET(avx2)
+REPROJECT_TEST_DECLARE_SET(avx512)
+REPROJECT_TEST_DECLARE_SET(neon)
+
+namespace {
+
+struct SetObjects {
+  const ArchLayerChecks* checks = nullptr;
+  CountedTable counted{nullptr, nullptr};
+};
+
+SetObjects objects_of(Arch arch) {
+  switch (arch) {
+#if defined(REPROJECT_TEST_SET_sse)
+    case Arch::sse: return {arch_layer_checks_sse(), counted_kernels_sse()};
+#endif
+#if defined(REPROJECT_TEST_SET_avx2)
+    case Arch::avx2: return {arch_layer_checks_avx2(), counted_kernels_avx2()};
+#endif
+#if defined(REPROJECT_TEST_SET_avx512)
+    case Arch::avx512: return {arch_layer_checks_avx512(), counted_kernels_avx512()};
+#endif
+#if defined(REPROJECT_TEST_SET_neon)
+    case Arch::neon: return {arch_layer_checks_neon(), counted_kernels_neon()};
+#endif
+    default: break;
+  }
+  return {};
+}
+
+}  // namespace
+
+const ArchLayerChecks* arch_layer_checks(Arch arch) { return objects_of(arch).checks; }
+CountedTable counted_kernels(Arch arch) { return objects_of(arch).counted; }
+
+}  // namespace reproject::test
