@@ -3,9 +3,20 @@
 // blocks of rows.
 #include "src/bands.hpp"
 
+#if defined(_WIN32)
+#ifndef NOMINMAX
+#define NOMINMAX  // windows.h would define min and max as macros
+#endif
+#include <windows.h>
+// windows.h defines near and far as empty macros (16-bit pointers): names of ours.
+#undef near
+#undef far
+#endif
+
 #include <algorithm>
 #include <atomic>
 #include <memory>
+#include <new>
 #include <vector>
 
 #include "kernels/rows.hpp"
@@ -48,13 +59,41 @@ struct ScratchSet {
   }
 };
 
+// The calling thread's set, freed when the thread ends; null if the system gives none.
+#if defined(_WIN32)
+// Windows: held in a fiber-local slot, whose callback frees it when the thread ends. Not a
+// thread_local with a destructor: MinGW-w64's GCC emulates thread_local storage and frees that
+// storage before such destructors run, which then read and free freed memory at every thread
+// exit (docs/ARCHITECTURE.md, "Windows": found by ThreadsHardening under Wine).
+void WINAPI free_scratch_set(void* set) { delete static_cast<ScratchSet*>(set); }
+
+ScratchSet* thread_scratch_set() noexcept {
+  static const DWORD slot = FlsAlloc(free_scratch_set);
+  if (slot == FLS_OUT_OF_INDEXES) return nullptr;
+  auto* set = static_cast<ScratchSet*>(FlsGetValue(slot));
+  if (set == nullptr) {
+    set = new (std::nothrow) ScratchSet;
+    if (set != nullptr && !FlsSetValue(slot, set)) {
+      delete set;
+      set = nullptr;
+    }
+  }
+  return set;
+}
+#else
+ScratchSet* thread_scratch_set() noexcept {
+  thread_local ScratchSet set;
+  return &set;
+}
+#endif
+
 // The calling thread's set, or a fresh one when a call is made from inside another on the same
 // thread (a job system that runs other work while it waits): that call allocates its scratch.
 class ScratchSetLease {
  public:
   ScratchSetLease() {
-    thread_local ScratchSet reused;
-    set_ = reused.in_use ? &fresh_ : &reused;
+    ScratchSet* reused = thread_scratch_set();
+    set_ = reused == nullptr || reused->in_use ? &fresh_ : reused;
     set_->in_use = true;
   }
   ~ScratchSetLease() { set_->in_use = false; }

@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -824,8 +825,14 @@ TEST(Exr, WriteErrors) {
 // Windows: the writer is this program again, started with REPROJECT_TEST_WRITE_LOOP naming the
 // file, in a console of its own; the test sends it Ctrl-C, which Windows handles on a thread of
 // the writer's own while its writes go on, and the handler removes what is tracked and exits, as
-// the tool's does when a command does not stop in time (tools/cli/files.cpp).
+// the tool's does when a command does not stop in time (tools/cli/files.cpp). From the clean-up on,
+// creating a temporary fails ("the program is being interrupted"), so a write under way may fail
+// before the handler ends the process: the writer then waits to be ended (exit 0) instead of
+// exiting with its own failure code first.
+std::atomic<bool> g_interrupted{false};
+
 BOOL WINAPI remove_temporaries_and_exit(DWORD) {
+  g_interrupted.store(true);
   io::remove_temporary_files();
   ExitProcess(0);
 }
@@ -840,7 +847,9 @@ const bool g_writer_child = [] {
   }
   std::ofstream(std::getenv("REPROJECT_TEST_WRITE_READY")) << "ready";
   for (;;) {
-    if (!io::write_depth(output, plane.plane(0)).ok()) ExitProcess(3);
+    if (io::write_depth(output, plane.plane(0)).ok()) continue;
+    if (g_interrupted.load()) Sleep(INFINITE);  // the handler is ending the process
+    ExitProcess(3);
   }
 }();
 #else
