@@ -132,8 +132,10 @@ namespace {
 // While commit() renames, a signal must not remove the files it is moving: the handler then only
 // notes the signal, and commit() acts on it once the set is complete (or rolled back).
 std::atomic<bool> committing{false};
-std::atomic<int> deferred_signal{0};
 std::atomic<bool> interrupted{false};
+#if !defined(_WIN32)
+std::atomic<int> deferred_signal{0};
+#endif
 
 #if defined(_WIN32)
 // Windows runs a console control handler on a thread of its own, while the command goes on: the
