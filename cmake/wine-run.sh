@@ -5,6 +5,9 @@
 # Each DIR (MinGW's runtime DLLs: libstdc++, libgcc_s, libwinpthread) goes on WINEPATH. Wine's own
 # messages are off unless WINEDEBUG says otherwise. WINEPREFIX (default ~/.wine) is created on first
 # use, once, under a lock, so that programs started in parallel do not each start creating it.
+# Wine's server is kept for 30 s after its last program ends (its default is 3 s): a program
+# started while the server is shutting down can fail to reach it ("wine client error: recvmsg:
+# Connection reset by peer"), which a test run, one program after another, would otherwise meet.
 set -e
 dll_path=""
 while [ "$1" = "--dll-dir" ]; do
@@ -19,13 +22,16 @@ if [ -z "$wine" ]; then
   echo "wine-run.sh: no wine64 (Debian: apt-get install wine64)" >&2
   exit 127
 fi
+server=$(command -v wineserver64 || command -v wineserver || echo /usr/lib/wine/wineserver64)
 prefix="${WINEPREFIX:-$HOME/.wine}"
+mkdir -p "$prefix"
+export WINEPREFIX="$prefix"
+"$server" -p30 > /dev/null 2>&1 || true  # exits at once if the prefix's server runs already
 if [ ! -f "$prefix/.wine-run-ready" ]; then
-  mkdir -p "$(dirname "$prefix")"
   (
     flock 9
     if [ ! -f "$prefix/.wine-run-ready" ]; then
-      WINEPREFIX="$prefix" "$wine" wineboot --init > /dev/null 2>&1
+      "$wine" wineboot --init > /dev/null 2>&1
       touch "$prefix/.wine-run-ready"
     fi
   ) 9> "$prefix.lock"

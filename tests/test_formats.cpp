@@ -52,6 +52,7 @@
 #endif
 
 #include "imageio/imageio.hpp"
+#include "imageio/os.hpp"
 #include "imageio/stereo_views.hpp"
 #include "reproject/image.hpp"
 #include "support/files.hpp"
@@ -941,6 +942,46 @@ TEST(TemporaryFiles, SignalAtAnyMomentOfAWriteLeavesNone) {
   EXPECT_GT(writes_done, 0) << "no write finished before its signal";
   std::error_code ignored;
   std::filesystem::remove_all(dir, ignored);
+}
+
+// ------------------------------------------------------------------------------------------------
+// LargeFiles
+
+// Files of 2 GB and more, sparse (only their headers are written): sizes and offsets are 64-bit on
+// every system (Windows' `long` and its default `struct stat` size are 32-bit).
+TEST(LargeFiles, SizesAndOffsetsPastTwoGigabytes) {
+  TempFile pfm("large.pfm");
+  const std::string header = "PF\n16384 16384\n-1.0\n";  // RGB floats: 3 GiB of pixels
+  const std::uint64_t whole = header.size() + 3ULL * 4 * 16384 * 16384;
+  write_text(pfm.path, header);
+  std::filesystem::resize_file(io::os::to_path(pfm.path), whole);
+  io::ImageInfo info;
+  io::IoStatus status = io::read_image_info(pfm.path, &info);
+  ASSERT_TRUE(status.ok()) << status.message;
+  EXPECT_EQ(info.width, 16384);
+  EXPECT_EQ(info.channels, 3);
+  EXPECT_TRUE(io::check_raw_size(pfm.path, whole, "the buffer").ok());
+  status = io::check_raw_size(pfm.path, whole - (1ULL << 32), "the buffer");
+  EXPECT_EQ(status.error, io::IoError::size_mismatch);
+  EXPECT_TRUE(contains(status.message, "holds " + std::to_string(whole) + " bytes")) << status.message;
+
+  std::FILE* file = io::os::open_file(pfm.path, "rb");
+  ASSERT_NE(file, nullptr);
+  const std::uint64_t far = (5ULL << 30) / 2 + 7;  // 2.5 GiB and a few bytes
+  EXPECT_TRUE(io::os::seek(file, far));
+  EXPECT_EQ(io::os::tell(file), static_cast<std::int64_t>(far));
+  EXPECT_EQ(std::fgetc(file), 0);  // a hole reads as zeros
+  EXPECT_EQ(io::os::tell(file), static_cast<std::int64_t>(far + 1));
+  io::os::FileStatus file_status;
+  ASSERT_TRUE(io::os::file_status(file, &file_status));
+  EXPECT_TRUE(file_status.regular);
+  EXPECT_EQ(file_status.size, static_cast<std::int64_t>(whole));
+  std::fclose(file);
+
+  // One byte short of its pixels: truncated, counted in 64 bits.
+  std::filesystem::resize_file(io::os::to_path(pfm.path), whole - 1);
+  status = io::read_image_info(pfm.path, &info);
+  EXPECT_EQ(status.error, io::IoError::truncated) << status.message;
 }
 
 // ------------------------------------------------------------------------------------------------

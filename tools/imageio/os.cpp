@@ -3,10 +3,12 @@
 
 #include <cerrno>
 #include <cstring>
+#include <limits>
 
 #if defined(_WIN32)
 #include <fcntl.h>
 #include <io.h>
+#include <sys/stat.h>
 #ifndef NOMINMAX
 #define NOMINMAX  // windows.h would define min and max as macros
 #endif
@@ -109,6 +111,22 @@ std::FILE* create_new(const std::string& path, bool* exists, std::string* error)
 }
 
 std::FILE* open_file(const std::string& path, const char* mode) { return std::fopen(path.c_str(), mode); }
+
+bool file_status(std::FILE* file, FileStatus* out) {
+  struct stat info = {};
+  if (::fstat(fileno(file), &info) != 0) return false;
+  out->regular = S_ISREG(info.st_mode);
+  out->directory = S_ISDIR(info.st_mode);
+  out->size = static_cast<std::int64_t>(info.st_size);
+  return true;
+}
+
+std::int64_t tell(std::FILE* file) { return static_cast<std::int64_t>(::ftello(file)); }
+
+bool seek(std::FILE* file, std::uint64_t position) {
+  if (position > static_cast<std::uint64_t>(std::numeric_limits<off_t>::max())) return false;
+  return ::fseeko(file, static_cast<off_t>(position), SEEK_SET) == 0;
+}
 
 bool replace_file(const std::string& from, const std::string& to, std::string* error) {
   errno = 0;
@@ -255,6 +273,22 @@ std::FILE* create_new(const std::string& path, bool* exists, std::string* error)
 }
 
 std::FILE* open_file(const std::string& path, const char* mode) { return _wfopen(wide(path).c_str(), wide(mode).c_str()); }
+
+bool file_status(std::FILE* file, FileStatus* out) {
+  struct _stat64 info = {};
+  if (_fstat64(_fileno(file), &info) != 0) return false;
+  out->regular = (info.st_mode & _S_IFMT) == _S_IFREG;
+  out->directory = (info.st_mode & _S_IFMT) == _S_IFDIR;
+  out->size = static_cast<std::int64_t>(info.st_size);
+  return true;
+}
+
+std::int64_t tell(std::FILE* file) { return static_cast<std::int64_t>(_ftelli64(file)); }
+
+bool seek(std::FILE* file, std::uint64_t position) {
+  if (position > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return false;
+  return _fseeki64(file, static_cast<__int64>(position), SEEK_SET) == 0;
+}
 
 bool replace_file(const std::string& from, const std::string& to, std::string* error) {
   if (MoveFileExW(wide(from).c_str(), wide(to).c_str(), MOVEFILE_REPLACE_EXISTING | MOVEFILE_WRITE_THROUGH)) return true;

@@ -4,6 +4,7 @@
 // code page is.
 #pragma once
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -40,6 +41,20 @@ Input open_input(const std::string& path);
 std::FILE* create_new(const std::string& path, bool* exists, std::string* error);
 // fopen with a UTF-8 path.
 std::FILE* open_file(const std::string& path, const char* mode);
+
+// What fstat says of an open file, with a 64-bit size on every system (Windows' `long`, and the
+// size in MinGW's and MSVC's default `struct stat`, are 32-bit: files of 2 GB and more).
+struct FileStatus {
+  bool regular = false;
+  bool directory = false;
+  std::int64_t size = 0;
+};
+// False if the system cannot say (errno says why).
+bool file_status(std::FILE* file, FileStatus* out);
+// The stream's position (-1 on failure, errno set) and a seek to `position` from its start
+// (false on failure), 64-bit likewise.
+std::int64_t tell(std::FILE* file);
+bool seek(std::FILE* file, std::uint64_t position);
 
 // Renames `from` onto `to`, replacing it atomically if it exists (POSIX rename(2); Windows
 // MoveFileExW with MOVEFILE_REPLACE_EXISTING | MOVEFILE_WRITE_THROUGH).
