@@ -26,14 +26,16 @@ server=$(command -v wineserver64 || command -v wineserver || echo /usr/lib/wine/
 prefix="${WINEPREFIX:-$HOME/.wine}"
 mkdir -p "$prefix"
 export WINEPREFIX="$prefix"
-"$server" -p30 > /dev/null 2>&1 || true  # exits at once if the prefix's server runs already
-if [ ! -f "$prefix/.wine-run-ready" ]; then
-  (
-    flock 9
-    if [ ! -f "$prefix/.wine-run-ready" ]; then
-      "$wine" wineboot --init > /dev/null 2>&1
-      touch "$prefix/.wine-run-ready"
-    fi
-  ) 9> "$prefix.lock"
-fi
+(
+  flock 9
+  # A server of our own when none runs (wineserver exits at once, status 2, if one does). Wine's
+  # services (services.exe, winedevice.exe, ...) then start here, with their output going
+  # nowhere: started by the program below, they would hold its output open for as long as the
+  # server lives, and a test runner waits for that.
+  # (Neither may inherit the lock's descriptor: it would stay locked as long as they live.)
+  if "$server" -p30 > /dev/null 2>&1 < /dev/null 9>&- || [ ! -f "$prefix/.wine-run-ready" ]; then
+    "$wine" wineboot --init > /dev/null 2>&1 < /dev/null 9>&-
+    touch "$prefix/.wine-run-ready"
+  fi
+) 9> "$prefix.lock"
 exec "$wine" "$@"
