@@ -3,16 +3,6 @@
 // blocks of rows.
 #include "src/bands.hpp"
 
-#if defined(_WIN32)
-#ifndef NOMINMAX
-#define NOMINMAX  // windows.h would define min and max as macros
-#endif
-#include <windows.h>
-// windows.h defines near and far as empty macros (16-bit pointers): names of ours.
-#undef near
-#undef far
-#endif
-
 #include <algorithm>
 #include <atomic>
 #include <memory>
@@ -21,6 +11,13 @@
 
 #include "kernels/rows.hpp"
 #include "src/thread_pool.hpp"
+
+#if defined(_WIN32)
+#ifndef NOMINMAX
+#define NOMINMAX  // no min and max macros (std::max below)
+#endif
+#include <windows.h>  // FlsAlloc; after the other headers, whose names its near and far macros would hit
+#endif
 
 namespace reproject {
 namespace detail {
