@@ -124,9 +124,9 @@ def source_revision():
     commit = git("rev-parse", "--short", "HEAD")
     if not commit:
         return "unknown"
-    # What the benchmark links: the library, its headers and the scene (src/scene). New files count
+    # What the benchmark links: the library, its headers and the scenes (scene/). New files count
     # too (a header added to the library is part of what was measured).
-    changed = [line[3:] for line in git("status", "--porcelain", "--", "include", "src", "kernels",
+    changed = [line[3:] for line in git("status", "--porcelain", "--", "include", "src", "kernels", "scene",
                                         "CMakeLists.txt").splitlines()]
     return commit + (" + uncommitted changes to " + ", ".join(changed) if changed else "")
 

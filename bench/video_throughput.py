@@ -84,7 +84,7 @@ def main():
         with av.open(os.path.join(folder, "encode.mp4"), "w") as out:
             stream = out.add_stream("libx264", rate=24)
             stream.width, stream.height, stream.pix_fmt = 2 * width, height, "yuv420p"
-            stream.options = {"crf": "18"}
+            stream.options = dict(job.outputs[0].options)  # convert's own: CRF 18, cpu-independent, ...
             for i in range(count):
                 frame = _media.to_video_frame(packed, job.working, "yuv420p", job.colorspace)
                 frame.pts = i

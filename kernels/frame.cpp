@@ -94,26 +94,17 @@ bool mirrored_eyes(const Frame& left, const Frame& right) {
   return left.s == -right.s;
 }
 
-void prepare_scratch(const Frame& f, RowScratch& scratch) {
+bool prepare_scratch(const Frame& f, RowScratch& scratch) {
   // Every parallax the plan holds (p_near, p_far, probe) lies in [-limit, limit], so this is
   // set_near_key()'s padding at its widest.
   const int pad = static_cast<int>(std::max(0.0f, std::ceil(f.limit - static_cast<float>(f.guard))));
   const std::size_t padded = static_cast<std::size_t>(pad + 2) + f.source_width + static_cast<std::size_t>(pad + 3);
-  if (scratch.parallax_storage.size() < padded) scratch.parallax_storage.resize(padded);
-  if (scratch.source_x.size() < static_cast<std::size_t>(f.target_width)) {
-    scratch.source_x.resize(f.target_width);
-    scratch.clipped.resize(f.target_width);
-    scratch.owner_storage.resize(static_cast<std::size_t>(f.target_width) + 2 * kOwnerPad);
-  }
-  if (depth_row_kept(f) && scratch.stored_depth.size() < static_cast<std::size_t>(f.source_width))
-    scratch.stored_depth.resize(f.source_width);
-  // `secant` sizes its block table itself on first use; doing it here keeps that first use from
-  // allocating inside a row on whichever thread happens to run it.
-  const std::size_t entries = secant_table_size(f.source_width);
-  if (scratch.block_min.size() < entries) {
-    scratch.block_min.resize(entries);
-    scratch.block_max.resize(entries);
-  }
+  const std::size_t targets = static_cast<std::size_t>(f.target_width);
+  const std::size_t entries = secant_table_size(f.source_width);  // `secant`'s block table
+  return scratch.parallax_storage.reserve(padded) && scratch.source_x.reserve(targets) && scratch.clipped.reserve(targets) &&
+         scratch.owner_storage.reserve(targets + 2 * kOwnerPad) &&
+         (!depth_row_kept(f) || scratch.stored_depth.reserve(static_cast<std::size_t>(f.source_width))) &&
+         scratch.block_min.reserve(entries) && scratch.block_max.reserve(entries);
 }
 
 }  // namespace reproject::detail

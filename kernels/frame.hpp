@@ -4,8 +4,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
 
+#include "kernels/memory.hpp"
 #include "reproject/reproject.hpp"
 
 namespace reproject::detail {
@@ -65,19 +65,20 @@ struct Frame {
 
 constexpr int kOwnerPad = 16;  // the widest vector
 
-// Scratch for one row, reused across rows and calls (no allocation once large enough).
+// Scratch for one row, reused across rows and calls (no allocation once large enough), in the
+// library's memory (kernels/memory.hpp: the host's allocator, 64-byte aligned).
 struct RowScratch {
-  std::vector<float> parallax_storage;
-  std::vector<float> source_x;
-  std::vector<float> clipped;  // 1 or 0 per target pixel: a float, so SIMD reads it with one load
+  Buffer<float> parallax_storage;
+  Buffer<float> source_x;
+  Buffer<float> clipped;  // 1 or 0 per target pixel: a float, so SIMD reads it with one load
   // `exact`'s SIMD sweep: per target pixel, the code of what paints it (exact_simd.hpp), with
   // kOwnerPad entries before and after for whole-vector stores. Codes are exact small floats.
-  std::vector<float> owner_storage;
-  std::vector<float> block_min;  // `secant`: min/max key per block of columns (secant.hpp)
-  std::vector<float> block_max;
+  Buffer<float> owner_storage;
+  Buffer<float> block_min;  // `secant`: min/max key per block of columns (secant.hpp)
+  Buffer<float> block_max;
   // The stored depth values d of a D16 row (when the output depth is asked for): the SIMD
   // decode writes them, the SIMD resolve interpolates them (16-bit columns do not fit its plan).
-  std::vector<float> stored_depth;
+  Buffer<float> stored_depth;
   const float* parallax = nullptr;  // column 0 of the padded row
 };
 
@@ -104,7 +105,8 @@ bool mirrored_eyes(const Frame& left, const Frame& right);
 
 // Sizes `scratch` for any frame with f's widths and guard, whatever its near limit (the padding
 // is sized for the widest the plan allows), so that later calls with the same sizes never
-// allocate, whatever their depth. Valid before set_near_key().
-void prepare_scratch(const Frame& f, RowScratch& scratch);
+// allocate, whatever their depth. Valid before set_near_key(). False when out of memory (then
+// the scratch must not be used for f).
+[[nodiscard]] bool prepare_scratch(const Frame& f, RowScratch& scratch);
 
 }  // namespace reproject::detail

@@ -23,11 +23,7 @@ inline namespace REPROJECT_SCALAR_COPY {  // compiled twice (kernels/kernel_tabl
 
 void build_block_table(const Frame& f, RowScratch& scratch) {
   const int blocks = (f.source_width + kSecantBlock - 1) / kSecantBlock;
-  const std::size_t entries = secant_table_size(f.source_width);
-  if (scratch.block_min.size() < entries) {
-    scratch.block_min.resize(entries);
-    scratch.block_max.resize(entries);
-  }
+  // prepare_scratch sized the table for this width before any row ran.
   float* lowest = scratch.block_min.data();
   float* highest = scratch.block_max.data();
   for (int k = 0; k < blocks; ++k) {

@@ -50,6 +50,12 @@ struct X86Set<xsimd::sse4_1> {
     I index;
   };
 
+  static I bits_of(const F& v) { return _mm_castps_si128(v); }
+  static F float_bits(const I& v) { return _mm_castsi128_ps(v); }
+  static F floor(const F& x) { return _mm_round_ps(x, _MM_FROUND_FLOOR); }
+  static F min(const F& a, const F& b) { return _mm_min_ps(a, b); }
+  static F max(const F& a, const F& b) { return _mm_max_ps(a, b); }
+  static I round_to_int(const F& x) { return _mm_cvtps_epi32(x); }
   static F gather(const float* base, const I& index) {  // four loads (memcpy: any byte address)
     alignas(16) std::int32_t at[4];
     alignas(16) float value[4];
@@ -107,6 +113,12 @@ struct X86Set<xsimd::fma3<xsimd::avx2>> {
   };
 
   static F fmadd(const F& a, const F& b, const F& c) { return _mm256_fmadd_ps(a, b, c); }
+  static I bits_of(const F& v) { return _mm256_castps_si256(v); }
+  static F float_bits(const I& v) { return _mm256_castsi256_ps(v); }
+  static F floor(const F& x) { return _mm256_round_ps(x, _MM_FROUND_FLOOR); }
+  static F min(const F& a, const F& b) { return _mm256_min_ps(a, b); }
+  static F max(const F& a, const F& b) { return _mm256_max_ps(a, b); }
+  static I round_to_int(const F& x) { return _mm256_cvtps_epi32(x); }
   static F gather(const float* base, const I& index) { return _mm256_i32gather_ps(base, index, 4); }
   template <bool Max>
   static std::int32_t lane_extreme_key(__m256i k) {
@@ -167,6 +179,12 @@ struct X86Set<xsimd::avx512bw> {
 
   // Named, not xsimd::fma: xsimd 8.1 has no fma kernel for avx512f and falls back to x * y + z.
   static F fmadd(const F& a, const F& b, const F& c) { return _mm512_fmadd_ps(a, b, c); }
+  static I bits_of(const F& v) { return _mm512_castps_si512(v); }
+  static F float_bits(const I& v) { return _mm512_castsi512_ps(v); }
+  static F floor(const F& x) { return _mm512_roundscale_ps(x, _MM_FROUND_TO_NEG_INF); }
+  static F min(const F& a, const F& b) { return _mm512_min_ps(a, b); }
+  static F max(const F& a, const F& b) { return _mm512_max_ps(a, b); }
+  static I round_to_int(const F& x) { return _mm512_cvtps_epi32(x); }
   static F gather(const float* base, const I& index) { return _mm512_i32gather_ps(index, base, 4); }
   template <bool Max>
   static std::int32_t lane_extreme_key(__m512i k) {
@@ -216,36 +234,40 @@ F vmadd(const F& a, const F& b, const F& c) {
     return a * b + c;
   }
 }
-// divps, roundps, minps/maxps (a < b ? a : b) and cvtps2dq (nearest even in the default mode),
-// which xsimd 8.1 calls on every width here.
+// divps on every width (xsimd's operator/ is the instruction in every release). floor, min, max
+// and rounding are each set's instruction, named: roundps with the floor mode, minps/maxps with
+// the operands in this order (a < b ? a : b; xsimd 14 calls them with the operands swapped, which
+// moves NaNs and zeros to the other side), cvtps2dq (nearest even in the default mode).
 template <class F>
 F vdiv(const F& a, const F& b) {
   return a / b;
 }
 template <class F>
 F vfloor(const F& x) {
-  return xsimd::floor(x);
+  return X86SetOf<F>::floor(x);
 }
 template <class F>
 F vmin(const F& a, const F& b) {
-  return xsimd::min(a, b);
+  return X86SetOf<F>::min(a, b);
 }
 template <class F>
 F vmax(const F& a, const F& b) {
-  return xsimd::max(a, b);
+  return X86SetOf<F>::max(a, b);
 }
 template <class Arch>
 xsimd::batch<std::int32_t, Arch> round_to_int(const xsimd::batch<float, Arch>& x) {
-  return xsimd::nearbyint_as_int(x);
+  return X86Set<Arch>::round_to_int(x);
 }
 
+// The register casts themselves (free), not xsimd::bitwise_cast, whose template parameters
+// changed in xsimd 11 (a batch type before, the element type after).
 template <class Arch>
 xsimd::batch<std::int32_t, Arch> bits_of(const xsimd::batch<float, Arch>& v) {
-  return xsimd::bitwise_cast<xsimd::batch<std::int32_t, Arch>>(v);
+  return X86Set<Arch>::bits_of(v);
 }
 template <class Arch>
 xsimd::batch<float, Arch> float_bits(const xsimd::batch<std::int32_t, Arch>& v) {
-  return xsimd::bitwise_cast<xsimd::batch<float, Arch>>(v);
+  return X86Set<Arch>::float_bits(v);
 }
 // Byte 0 is an and; byte 3 a logical shift, bytes 1 and 2 one byte shuffle (SSSE3, in every set).
 template <int Byte, class Arch>

@@ -1,4 +1,4 @@
-// The built-in ray-cast scenes (src/scene), so a notebook can compare the methods against the
+// The built-in ray-cast scenes (scene/), so a notebook can compare the methods against the
 // true other eye without files: the centre view, both true eyes and what each eye shares with the
 // centre, as arrays.
 #include <pybind11/numpy.h>

@@ -5,19 +5,13 @@
 
 #include <algorithm>
 #include <atomic>
-#include <memory>
+#include <mutex>
 #include <new>
-#include <vector>
 
+#include "kernels/memory.hpp"
 #include "kernels/rows.hpp"
+#include "src/memory.hpp"
 #include "src/thread_pool.hpp"
-
-#if defined(_WIN32)
-#ifndef NOMINMAX
-#define NOMINMAX  // no min and max macros (std::max below)
-#endif
-#include <windows.h>  // FlsAlloc; after the other headers, whose names its near and far macros would hit
-#endif
 
 namespace reproject {
 namespace detail {
@@ -41,65 +35,72 @@ struct alignas(64) ScratchSlot {
   std::atomic<bool> busy{false};  // held by a ParallelFor task for its duration
 };
 
-// The scratch of the calls made from one thread. Slot k serves the pool job's participant k
-// (0: the caller), or any ParallelFor task that holds it. It outlives the call so that a call
-// with the sizes of an earlier one allocates nothing; the calling thread owns it because it is
-// blocked in the call for as long as anyone uses it.
+// The scratch of one running call. Slot k serves the pool job's participant k (0: the caller), or
+// any ParallelFor task that holds it. Sets outlive calls in the cache below, so that a call with
+// the sizes of an earlier one allocates nothing, whichever thread makes it.
 struct ScratchSet {
-  std::vector<std::unique_ptr<ScratchSlot>> slots;
-  bool in_use = false;
+  ScratchSlot* slots[kMaxBands] = {};
+  int count = 0;
+  ScratchSet* next_free = nullptr;
 
-  // At least `count` slots, the first `prepared` of them sized for f's widths.
-  void reserve(int count, int prepared, const Frame& f) {
-    while (static_cast<int>(slots.size()) < count) slots.push_back(std::make_unique<ScratchSlot>());
-    for (int k = 0; k < prepared; ++k) prepare_scratch(f, slots[static_cast<std::size_t>(k)]->scratch);
+  ScratchSet() noexcept = default;
+  ~ScratchSet() {
+    for (int k = 0; k < count; ++k) destroy(slots[k]);
+  }
+  ScratchSet(const ScratchSet&) = delete;
+  ScratchSet& operator=(const ScratchSet&) = delete;
+
+  // At least `wanted` slots, the first `prepared` of them sized for f's widths. False when out
+  // of memory (what was made stays, for the next call).
+  bool reserve(int wanted, int prepared, const Frame& f) noexcept {
+    for (; count < wanted; ++count) {
+      slots[count] = create<ScratchSlot>();
+      if (slots[count] == nullptr) return false;
+    }
+    for (int k = 0; k < prepared; ++k) {
+      if (!prepare_scratch(f, slots[k]->scratch)) return false;
+    }
+    return true;
   }
 };
 
-// The calling thread's set, freed when the thread ends; null if the system gives none.
-#if defined(_WIN32)
-// Windows: held in a fiber-local slot, whose callback frees it when the thread ends. Not a
-// thread_local with a destructor: MinGW-w64's GCC emulates thread_local storage and frees that
-// storage before such destructors run, which then read and free freed memory at every thread
-// exit (docs/ARCHITECTURE.md, "Windows": found by ThreadsHardening under Wine).
-void WINAPI free_scratch_set(void* set) { delete static_cast<ScratchSet*>(set); }
-
-ScratchSet* thread_scratch_set() noexcept {
-  static const DWORD slot = FlsAlloc(free_scratch_set);
-  if (slot == FLS_OUT_OF_INDEXES) return nullptr;
-  auto* set = static_cast<ScratchSet*>(FlsGetValue(slot));
-  if (set == nullptr) {
-    set = new (std::nothrow) ScratchSet;
-    if (set != nullptr && !FlsSetValue(slot, set)) {
-      delete set;
-      set = nullptr;
-    }
-  }
-  return set;
+// The sets no running call holds, in static storage that is never destroyed. A call takes one
+// (or makes one) and puts it back when it returns: as many sets as calls have ever run at once,
+// on any threads, and release_cached_scratch() frees them all.
+struct ScratchCache {
+  std::mutex mutex;
+  ScratchSet* free = nullptr;
+};
+ScratchCache& scratch_cache() noexcept {
+  alignas(ScratchCache) static unsigned char storage[sizeof(ScratchCache)];
+  static ScratchCache* const cache = new (storage) ScratchCache();
+  return *cache;
 }
-#else
-ScratchSet* thread_scratch_set() noexcept {
-  thread_local ScratchSet set;
-  return &set;
-}
-#endif
 
-// The calling thread's set, or a fresh one when a call is made from inside another on the same
-// thread (a job system that runs other work while it waits): that call allocates its scratch.
+// A set for the duration of a call (null when none could be made).
 class ScratchSetLease {
  public:
-  ScratchSetLease() {
-    ScratchSet* reused = thread_scratch_set();
-    set_ = reused == nullptr || reused->in_use ? &fresh_ : reused;
-    set_->in_use = true;
+  ScratchSetLease() noexcept {
+    ScratchCache& cache = scratch_cache();
+    {
+      std::lock_guard<std::mutex> lock(cache.mutex);
+      set_ = cache.free;
+      if (set_ != nullptr) cache.free = set_->next_free;
+    }
+    if (set_ == nullptr) set_ = create<ScratchSet>();
   }
-  ~ScratchSetLease() { set_->in_use = false; }
+  ~ScratchSetLease() {
+    if (set_ == nullptr) return;
+    ScratchCache& cache = scratch_cache();
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    set_->next_free = cache.free;
+    cache.free = set_;
+  }
   ScratchSetLease(const ScratchSetLease&) = delete;
   ScratchSetLease& operator=(const ScratchSetLease&) = delete;
-  ScratchSet& set() { return *set_; }
+  ScratchSet* set() const noexcept { return set_; }
 
  private:
-  ScratchSet fresh_;
   ScratchSet* set_;
 };
 
@@ -120,10 +121,11 @@ struct RowPhase {
   int bands = 1;
   bool near_pass = false;  // true: nearest[i] = band i's nearest key; false: run band i's rows
   float* nearest = nullptr;
-  std::unique_ptr<ScratchSlot>* slots = nullptr;
+  ScratchSlot* const* slots = nullptr;
   int slot_count = 0;
   const std::atomic<bool>* cancel = nullptr;  // Options::cancel
   std::atomic<bool>* stopped = nullptr;       // set by a band that left rows undone
+  std::atomic<bool>* no_memory = nullptr;     // set by a task whose scratch could not be sized
 };
 
 void run_band(const RowPhase& phase, int band, RowScratch& scratch) {
@@ -166,13 +168,18 @@ void jobs_task(void* context, int index) noexcept {
   ScratchSlot* slot = nullptr;
   while (slot == nullptr) {
     for (int k = 0; k < phase.slot_count && slot == nullptr; ++k) {
-      ScratchSlot* candidate = phase.slots[k].get();
+      ScratchSlot* candidate = phase.slots[k];
       if (!candidate->busy.load(std::memory_order_relaxed) && !candidate->busy.exchange(true, std::memory_order_acquire))
         slot = candidate;
     }
   }
-  prepare_scratch(phase.frames[0], slot->scratch);  // a no-op once sized
-  run_band(phase, index, slot->scratch);
+  // A no-op once sized. A slot beyond the prepared ones that cannot be sized leaves its band
+  // undone, and the call returns out_of_memory.
+  if (prepare_scratch(phase.frames[0], slot->scratch)) {
+    run_band(phase, index, slot->scratch);
+  } else {
+    phase.no_memory->store(true, std::memory_order_relaxed);
+  }
   slot->busy.store(false, std::memory_order_release);
 }
 
@@ -188,45 +195,55 @@ void run_phase(RowPhase& phase, int count, ThreadPool* pool, int threads, const 
 
 }  // namespace
 
-bool run_frames(const KernelTable& kernels, Frame* frames, int frame_count, const Options& options,
-                const ParallelFor* jobs) {
+Status run_frames(const KernelTable& kernels, Frame* frames, int frame_count, const Options& options,
+                  const ParallelFor* jobs) {
   const int height = frames[0].height;
   int threads = 1;
   int bands = 1;
-  ThreadPool* pool = nullptr;
   if (jobs != nullptr) {
     // The job system's width is unknown: size the bands for one thread per hardware thread.
     bands = std::min({height, hardware_threads() * kBandsPerThread, kMaxBands});
   } else {
     threads = options.threads > 0 ? std::min(options.threads, ThreadPool::kMaxThreads) : hardware_threads();
-    if (threads > 1) {
-      pool = ThreadPool::shared();
-      bands = std::min({height, threads * kBandsPerThread, kMaxBands});
-    }
   }
+  // The pool only for a call that wants more than one thread of it (it is made on first use).
+  const PoolLease pool_lease(jobs == nullptr && threads > 1);
+  ThreadPool* pool = pool_lease.pool();
+  if (pool != nullptr) bands = std::min({height, threads * kBandsPerThread, kMaxBands});
   const int tasks = bands;
 
   ScratchSetLease lease;
-  ScratchSet& set = lease.set();
+  ScratchSet* set = lease.set();
   // Pool: one slot per participant (no more than there are tasks), all prepared. Job system: one
   // per task, the first few prepared (as many as a job system with a thread per hardware
   // thread, or 4, uses at once; a wider one sizes its extra slots on first use).
   const int slot_count = jobs != nullptr ? tasks : std::min(threads, tasks);
   const int prepared = jobs != nullptr ? std::min(tasks, std::max(hardware_threads(), 4)) : slot_count;
-  set.reserve(slot_count, prepared, frames[0]);
+  if (set == nullptr || !set->reserve(slot_count, prepared, frames[0])) return out_of_memory("reproject", "row scratch");
 
   float nearest[kMaxBands];
   std::atomic<bool> stopped{false};
+  std::atomic<bool> no_memory{false};
   RowPhase phase;
   phase.kernels = &kernels;
   phase.frames = frames;
   phase.pair = frame_count == 2;
   phase.bands = bands;
   phase.nearest = nearest;
-  phase.slots = set.slots.data();
+  phase.slots = set->slots;
   phase.slot_count = slot_count;
   phase.cancel = options.cancel;
   phase.stopped = &stopped;
+  phase.no_memory = &no_memory;
+  // What stopped a phase, if anything: memory before cancellation (a band left undone for want of
+  // scratch is not the caller's cancel).
+  auto outcome = [&]() -> Status {
+    if (no_memory.load(std::memory_order_relaxed)) return out_of_memory("reproject", "row scratch");
+    if (stopped.load(std::memory_order_relaxed))
+      return Status(StatusCode::cancelled, "the cancel flag (Options::cancel; options.cancel in C) was set while the "
+                    "call ran: its outputs are unspecified");
+    return Status();
+  };
   if (near_pass_needed(frames[0])) {
     // Frame k's nearest key: its bands' keys reduced in band order from key_far, as the
     // sequential pass over the whole frame does.
@@ -239,17 +256,32 @@ bool run_frames(const KernelTable& kernels, Frame* frames, int frame_count, cons
       return key;
     };
     const float last_key = nearest_key_of(frame_count - 1);
-    if (stopped.load(std::memory_order_relaxed)) return false;
+    if (Status status = outcome(); !status.ok()) return status;
     set_near_key(frames[frame_count - 1], last_key);
     if (frame_count == 2) {  // a mirrored pair's eyes share the key (kernels/frame.hpp)
       const float first_key = mirrored_eyes(frames[0], frames[1]) ? last_key : nearest_key_of(0);
-      if (stopped.load(std::memory_order_relaxed)) return false;
+      if (Status status = outcome(); !status.ok()) return status;
       set_near_key(frames[0], first_key);
     }
     phase.near_pass = false;
   }
   run_phase(phase, tasks, pool, slot_count, jobs);
-  return !stopped.load(std::memory_order_relaxed);
+  return outcome();
+}
+
+void release_cached_scratch() noexcept {
+  ScratchCache& cache = scratch_cache();
+  ScratchSet* sets = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    sets = cache.free;
+    cache.free = nullptr;
+  }
+  while (sets != nullptr) {
+    ScratchSet* next = sets->next_free;
+    destroy(sets);
+    sets = next;
+  }
 }
 
 }  // namespace detail

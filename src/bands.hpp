@@ -14,9 +14,13 @@ namespace detail {
 // Runs every row of `frame_count` frames (one, or a pair's two eyes: frames[0] left, frames[1]
 // right) planned from one source with `options`; completes their near limit first when the
 // options leave it to the data. `jobs` null: the library's pool with Options::threads. Returns
-// false when Options::cancel stopped it (some rows, or the near pass, left undone).
-bool run_frames(const KernelTable& kernels, Frame* frames, int frame_count, const Options& options,
-                const ParallelFor* jobs);
+// cancelled when Options::cancel stopped it, out_of_memory when row scratch could not be had
+// (rows, or the near pass, left undone either way).
+Status run_frames(const KernelTable& kernels, Frame* frames, int frame_count, const Options& options,
+                  const ParallelFor* jobs);
+
+// Gives back every cached scratch set that no running call holds (reproject::release_memory).
+void release_cached_scratch() noexcept;
 
 }  // namespace detail
 }  // namespace reproject

@@ -18,7 +18,8 @@ namespace c_abi {
 // Values of the C constants are the C++ enumerators' (every file here casts between them):
 // checked here so that neither side drifts.
 static_assert(REPROJECT_INVALID_OPTION == static_cast<int>(StatusCode::invalid_option) &&
-                  REPROJECT_CANCELLED == static_cast<int>(StatusCode::cancelled),
+                  REPROJECT_CANCELLED == static_cast<int>(StatusCode::cancelled) &&
+                  REPROJECT_OUT_OF_MEMORY == static_cast<int>(StatusCode::out_of_memory),
               "status codes");
 static_assert(REPROJECT_METHOD_EXACT == static_cast<int>(Method::exact), "methods");
 static_assert(REPROJECT_ARCH_AVX512 == static_cast<int>(Arch::avx512) &&

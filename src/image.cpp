@@ -1,7 +1,11 @@
 #include "reproject/image.hpp"
 
+#include <cstdint>
 #include <cstring>
+#include <limits>
 #include <new>
+
+#include "src/memory.hpp"
 
 namespace reproject {
 namespace {
@@ -12,32 +16,58 @@ constexpr std::ptrdiff_t kFloatsPerLine = kRowAlignment / sizeof(float);
 }  // namespace
 
 Image::Image(int width, int height, int channels, ColorLayout layout) noexcept {
-  if (width <= 0 || height <= 0 || channels < 1 || channels > 4) return;
+  (void)allocate_pixels(width, height, channels, layout);
+}
+
+Status Image::create(int width, int height, int channels, ColorLayout layout, Image* out) noexcept {
+  if (out == nullptr) return Status(StatusCode::null_pointer, "Image::create: null output");
+  Image image;
+  Status status = image.allocate_pixels(width, height, channels, layout);
+  *out = static_cast<Image&&>(image);
+  return status;
+}
+
+Status Image::allocate_pixels(int width, int height, int channels, ColorLayout layout) noexcept {
+  if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
+    return Status(StatusCode::invalid_size, "Image::create: %dx%d with %d channels (sizes >= 1, channels 1..4)", width,
+                  height, channels);
   if (layout == ColorLayout::interleaved_rgba) channels = 4;
   const int floats_per_pixel = layout == ColorLayout::interleaved_rgba ? 4 : 1;
   const int planes = layout == ColorLayout::interleaved_rgba ? 1 : channels;
-  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(width) * floats_per_pixel;
-  const std::ptrdiff_t stride = (row + kFloatsPerLine - 1) / kFloatsPerLine * kFloatsPerLine;
-  const std::size_t bytes = static_cast<std::size_t>(stride) * height * planes * sizeof(float);
-  data_ = static_cast<float*>(::operator new(bytes, std::align_val_t(kRowAlignment), std::nothrow));
-  if (data_ == nullptr) return;
-  std::memset(data_, 0, bytes);
+  const std::uint64_t row = static_cast<std::uint64_t>(width) * floats_per_pixel;
+  const std::uint64_t stride = (row + kFloatsPerLine - 1) / kFloatsPerLine * kFloatsPerLine;
+  // Below 2^31 * 4 * 16 floats a row, times 2^31 rows, times 4 planes: checked, not trusted.
+  const std::uint64_t floats = stride * static_cast<std::uint64_t>(height);
+  if (floats / static_cast<std::uint64_t>(height) != stride ||
+      floats > std::numeric_limits<std::size_t>::max() / sizeof(float) / static_cast<std::uint64_t>(planes) ||
+      floats > static_cast<std::uint64_t>(std::numeric_limits<std::ptrdiff_t>::max()))
+    return Status(StatusCode::invalid_size, "Image::create: %dx%d with %d planes is beyond the address range", width,
+                  height, planes);
+  const std::size_t bytes = static_cast<std::size_t>(floats) * static_cast<std::size_t>(planes) * sizeof(float);
+  float* data = static_cast<float*>(detail::allocate(bytes, kRowAlignment));
+  if (data == nullptr) return detail::out_of_memory("Image::create", "the image's pixels");
+  std::memset(data, 0, bytes);
+  data_ = data;
   width_ = width;
   height_ = height;
   channels_ = channels;
   layout_ = layout;
-  stride_ = stride;
+  stride_ = static_cast<std::ptrdiff_t>(stride);
+  return Status();
 }
 
-Image::~Image() {
-  if (data_ != nullptr) ::operator delete(data_, std::align_val_t(kRowAlignment));
+std::size_t Image::bytes() const noexcept {
+  const int planes = layout_ == ColorLayout::interleaved_rgba ? 1 : channels_;
+  return static_cast<std::size_t>(plane_size()) * static_cast<std::size_t>(planes) * sizeof(float);
 }
+
+Image::~Image() { detail::deallocate(data_, bytes(), kRowAlignment); }
 
 Image::Image(const Image& other) noexcept
     : Image(other.width_, other.height_, other.channels_ == 0 ? 1 : other.channels_, other.layout_) {
   if (data_ != nullptr && other.data_ != nullptr) {
     const int planes = layout_ == ColorLayout::interleaved_rgba ? 1 : channels_;
-    std::memcpy(data_, other.data_, static_cast<std::size_t>(plane_size()) * planes * sizeof(float));
+    std::memcpy(data_, other.data_, static_cast<std::size_t>(plane_size()) * static_cast<std::size_t>(planes) * sizeof(float));
   }
 }
 

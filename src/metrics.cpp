@@ -14,9 +14,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <memory>
-#include <new>
 #include <type_traits>
+
+#include "src/memory.hpp"
 
 namespace reproject {
 namespace {
@@ -227,6 +227,7 @@ template <class T>
 Status ssim_of(const SampleView<T>& a, const SampleView<T>& b, const QualityOptions& options,
                double* result) noexcept {
   constexpr const char* fn = "ssim";
+  const detail::CallScope scope;
   if (result == nullptr) return Status(StatusCode::null_pointer, "%s: result is null", fn);
   double range = 0.0;
   Status status = check_inputs(a, b, options, fn, &range);
@@ -252,14 +253,12 @@ Status ssim_of(const SampleView<T>& a, const SampleView<T>& b, const QualityOpti
   if (doubles > std::numeric_limits<std::size_t>::max() / sizeof(double))
     return Status(StatusCode::invalid_size, "%s: %dx%d needs more working memory than the address range", fn, width,
                   height);
-  std::unique_ptr<double[]> memory(new (std::nothrow) double[static_cast<std::size_t>(doubles)]);
-  if (!memory)
-    return Status(StatusCode::invalid_size, "%s: cannot allocate %llu bytes of working rows", fn,
-                  static_cast<unsigned long long>(doubles * sizeof(double)));
+  detail::Buffer<double> memory;  // the library's allocator (reproject/memory.hpp)
+  if (!memory.reserve(static_cast<std::size_t>(doubles))) return detail::out_of_memory(fn, "SSIM's working rows");
   double* source[kQuantities];
   double* ring[kQuantities][kTaps];
   double* mean[kQuantities];
-  double* next = memory.get();
+  double* next = memory.data();
   for (double*& row : source) {
     row = next;
     next += width;

@@ -88,6 +88,7 @@ constexpr EnumName<StatusCode> kStatusCodes[] = {
     {StatusCode::size_mismatch, "size_mismatch"},   {StatusCode::aliasing, "aliasing"},
     {StatusCode::invalid_decoder, "invalid_decoder"}, {StatusCode::invalid_model, "invalid_model"},
     {StatusCode::invalid_option, "invalid_option"}, {StatusCode::cancelled, "cancelled"},
+    {StatusCode::out_of_memory, "out_of_memory"},
 };
 const char* to_string(StatusCode code) noexcept { return name_of(kStatusCodes, code); }
 

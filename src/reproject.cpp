@@ -6,6 +6,7 @@
 #include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
 #include "src/bands.hpp"
+#include "src/memory.hpp"
 #include "src/reproject_internal.hpp"
 #include "src/validate.hpp"
 
@@ -26,21 +27,17 @@ const KernelTable& kernels_for(const Options& options) {
   return *detail::compiled_kernels(options.arch ? *options.arch : selected_arch());
 }
 
-Status cancelled() {
-  return Status(StatusCode::cancelled, "the cancel flag (Options::cancel; options.cancel in C) was set while the call "
-                "ran: its outputs are unspecified");
-}
-
 Status reproject_one(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
                      const ParallaxModel& model, const Options& options, const TargetView& target,
                      const ParallelFor* jobs) {
+  const detail::CallScope scope;
   const TargetView* targets[1] = {&target};
   const char* names[1] = {"target"};
   CallViews views;
   const Status status = check_call(source, decoder, model, options, targets, names, 1, &views);
   if (!status.ok() || views.empty) return status;
   Frame frame = plan_frame(views.source, decoder, model, options, views.targets[0]);
-  return run_frames(kernels, &frame, 1, options, jobs) ? Status() : cancelled();
+  return run_frames(kernels, &frame, 1, options, jobs);
 }
 
 // The pair: the left eye's model is the right eye's mirror (-a, -b), and both eyes' rows run
@@ -48,6 +45,7 @@ Status reproject_one(const KernelTable& kernels, const SourceView& source, const
 Status reproject_two(const SourceView& centre, const DepthDecoder& decoder, const ParallaxModel& centre_to_right,
                      const Options& options, const TargetView& left, const TargetView& right,
                      const ParallelFor* jobs) {
+  const detail::CallScope scope;
   const ParallaxModel centre_to_left{-centre_to_right.a, -centre_to_right.b};
   const TargetView* targets[2] = {&left, &right};
   const char* names[2] = {"left", "right"};
@@ -56,7 +54,7 @@ Status reproject_two(const SourceView& centre, const DepthDecoder& decoder, cons
   if (!status.ok() || views.empty) return status;
   Frame frames[2] = {plan_frame(views.source, decoder, centre_to_left, options, views.targets[0]),
                      plan_frame(views.source, decoder, centre_to_right, options, views.targets[1])};
-  return run_frames(kernels_for(options), frames, 2, options, jobs) ? Status() : cancelled();
+  return run_frames(kernels_for(options), frames, 2, options, jobs);
 }
 
 }  // namespace

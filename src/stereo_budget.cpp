@@ -5,9 +5,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <memory>
-#include <new>
 
+#include "src/memory.hpp"
 #include "src/stereo_checks.hpp"
 
 namespace reproject {
@@ -33,6 +32,7 @@ double interpolate(double low, double high, double fraction) noexcept {
 
 Status parallax_budget(const FloatPlane& depth, const DepthDecoder& decoder, const StereoCamera& camera,
                        const BudgetOptions& options, ParallaxBudget* out, std::int64_t* histogram) noexcept {
+  const detail::CallScope scope;
   const char* fn = "parallax_budget";
   if (out == nullptr) return Status(StatusCode::null_pointer, "%s: null output", fn);
   if (Status status = check_plane(depth, fn, "depth"); !status.ok()) return status;
@@ -85,10 +85,8 @@ Status parallax_budget(const FloatPlane& depth, const DepthDecoder& decoder, con
   }
 
   // Percentiles are order statistics: the values must be kept (one float each, once per call).
-  std::unique_ptr<float[]> values(new (std::nothrow) float[static_cast<std::size_t>(count)]);
-  if (!values)
-    return Status(StatusCode::invalid_size, "%s: cannot allocate %lld floats for the percentiles", fn,
-                  static_cast<long long>(count));
+  detail::Buffer<float> values;  // the library's allocator (reproject/memory.hpp)
+  if (!values.reserve(static_cast<std::size_t>(count))) return detail::out_of_memory(fn, "the percentiles' values");
 
   // DESIGN §4 with sigma = +1 at the display width: p = a (1 - c w), a = S W. In double, so the
   // budget's own rounding is far below the decoder's.
@@ -132,7 +130,7 @@ Status parallax_budget(const FloatPlane& depth, const DepthDecoder& decoder, con
   budget.max = max;
 
   // Ascending ranks: each nth_element works on what lies above the previous one.
-  float* begin = values.get();
+  float* begin = values.data();
   float* end = begin + count;
   std::int64_t placed = -1;
   for (int i = 0; i < kBudgetPercentileCount; ++i) {

@@ -49,8 +49,14 @@ void release_aligned(void* p) noexcept { _aligned_free(p); }  // what _aligned_m
 void release_aligned(void* p) noexcept { release(p); }
 #endif
 
+// The throwing forms may not return null: without exceptions (REPROJECT_EXCEPTIONS=OFF) the
+// process ends instead, as the standard library's own operator new does there.
 void* or_throw(void* p) {
+#if defined(__cpp_exceptions)
   if (p == nullptr) throw std::bad_alloc();
+#else
+  if (p == nullptr) std::abort();
+#endif
   return p;
 }
 

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "reproject/formats.hpp"
+#include "reproject/status.hpp"
 
 namespace reproject {
 
@@ -76,12 +77,16 @@ using ColorView = ColorViewT<const float>;
 using MutableColorView = ColorViewT<float>;
 
 // Owning float image: `channels` planes (planar) or one RGBA plane (interleaved), each row padded to
-// a multiple of 64 bytes and 64-byte aligned. Allocation failure leaves an empty image (empty()
-// is true); nothing throws.
+// a multiple of 64 bytes and 64-byte aligned, in the library's memory (reproject/memory.hpp: the
+// host's allocator, if set). Allocation failure leaves an empty image (empty() is true); nothing
+// throws. Image::create says why it failed.
 class Image {
  public:
   Image() noexcept = default;
   Image(int width, int height, int channels = 1, ColorLayout layout = ColorLayout::planar) noexcept;
+  // The same, as a Status: invalid_size for a size < 1, channels outside 1..4 or a byte count
+  // beyond the address range; out_of_memory when the allocator has none (out is then empty).
+  static Status create(int width, int height, int channels, ColorLayout layout, Image* out) noexcept;
   ~Image();
   Image(const Image& other) noexcept;
   Image& operator=(const Image& other) noexcept;
@@ -105,6 +110,8 @@ class Image {
 
  private:
   std::ptrdiff_t plane_size() const noexcept { return stride_ * height_; }
+  std::size_t bytes() const noexcept;
+  Status allocate_pixels(int width, int height, int channels, ColorLayout layout) noexcept;  // on an empty image
   float* data_ = nullptr;
   int width_ = 0;
   int height_ = 0;

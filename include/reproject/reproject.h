@@ -39,24 +39,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "reproject/memory.h"
+#include "reproject/status.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 #define REPROJECT_C_ABI_VERSION 1
-
-/* Status codes (C++ StatusCode). */
-typedef int32_t reproject_status;
-#define REPROJECT_OK 0
-#define REPROJECT_NULL_POINTER 1
-#define REPROJECT_INVALID_SIZE 2
-#define REPROJECT_INVALID_STRIDE 3
-#define REPROJECT_SIZE_MISMATCH 4
-#define REPROJECT_ALIASING 5
-#define REPROJECT_INVALID_DECODER 6
-#define REPROJECT_INVALID_MODEL 7
-#define REPROJECT_INVALID_OPTION 8
-#define REPROJECT_CANCELLED 9 /* options.cancel was requested during the call: outputs unspecified */
 
 /* Methods (C++ Method). */
 #define REPROJECT_METHOD_SCANLINE 0

@@ -10,6 +10,7 @@
 #include "reproject/depth.hpp"
 #include "reproject/image.hpp"
 #include "reproject/parallax.hpp"
+#include "reproject/memory.hpp"
 #include "reproject/status.hpp"
 
 namespace reproject {

@@ -17,6 +17,7 @@ enum class StatusCode : int {
   invalid_model,     // parallax model parameters non-finite or degenerate (convergence <= 0, ...)
   invalid_option,    // an Options field out of range (negative threshold, steps < 1, ...)
   cancelled,         // Options::cancel was set while the call ran: its outputs are unspecified
+  out_of_memory,     // the allocator (reproject/memory.hpp) had no memory: nothing written, nothing kept
 };
 
 // Short stable name of a code, e.g. "invalid_stride".

@@ -2,9 +2,12 @@
 
 The flags are the C++ tool's warp and pair flags, with the same names, defaults and meanings, plus
 the outputs, segments and workers of reproject.video.convert. Errors are one line on stderr,
-"reproject: error: ...", exit code 1 (2 for a usage error, 130 when interrupted).
+"reproject: error: ...", with the C++ tool's exit codes (docs/CLI.md "Exit codes and messages"): 2
+for a usage error, 3 for an input, 4 for an output, 1 for the rest; a run that SIGINT, SIGTERM,
+SIGHUP or SIGQUIT stops cleans up and then dies of that signal, as the C++ tool does.
 """
 import argparse
+import os
 import signal
 import sys
 
@@ -85,8 +88,18 @@ def _scene_parser(commands):
     p.add_argument("--quiet", action="store_true")
 
 
+_EXIT_CODES = {"settings": 2, "input": 3, "output": 4, "failure": 1}
+_STOPPING = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT)
+
+
+class _Stopped(KeyboardInterrupt):
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
 def _stop(signum, frame):
-    raise KeyboardInterrupt
+    raise _Stopped(signum)
 
 
 def main(argv=None):
@@ -95,7 +108,8 @@ def main(argv=None):
     _convert_parser(commands)
     _scene_parser(commands)
     args = parser.parse_args(argv)
-    signal.signal(signal.SIGTERM, _stop)  # a polite kill cleans up as Ctrl-C does
+    for signum in _STOPPING:  # a polite kill cleans up as Ctrl-C does
+        signal.signal(signum, _stop)
     quiet = args.quiet or not sys.stderr.isatty()
     try:
         if args.command == "scene-video":
@@ -119,12 +133,23 @@ def main(argv=None):
             workers=args.workers, scheduler=args.scheduler, retries=args.retries, quiet=quiet)
         print("wrote " + ", ".join(outputs))
         return 0
-    except (video.ConvertError, ValueError, TypeError) as error:
+    except video.ConvertError as error:
         print(f"reproject: error: {error}", file=sys.stderr)
+        return _EXIT_CODES.get(error.kind, 1)
+    except (ValueError, TypeError) as error:
+        print(f"reproject: error: {error}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("reproject: error: out of memory", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as stop:
         print("reproject: interrupted (no partial output left)", file=sys.stderr)
-        return 130
+        sys.stderr.flush()
+        # Die of the signal, as the C++ tool does, so that a shell running this in a loop stops too.
+        signum = getattr(stop, "signum", signal.SIGINT)
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
+        return 128 + signum
 
 
 if __name__ == "__main__":

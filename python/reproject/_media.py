@@ -26,14 +26,19 @@ _RANGES = {"tv", "pc"}
 
 
 class MediaError(Exception):
-    """A source or an output that cannot be used: the message names the file (and the frame)."""
+    """A source that cannot be used: the message names the file (and the frame). kind: as
+    reproject.video.ConvertError's ('input', or 'failure' without PyAV)."""
+
+    def __init__(self, message, kind="input"):
+        super().__init__(message)
+        self.kind = kind
 
 
 def av():
     try:
         import av as module
     except ImportError:  # pragma: no cover - the package's optional dependency
-        raise MediaError("reproject.video needs PyAV (Debian: python3-av)") from None
+        raise MediaError("reproject.video needs PyAV (Debian: python3-av)", "failure") from None
     module.logging.set_level(module.logging.PANIC)
     return module
 

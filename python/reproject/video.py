@@ -17,6 +17,7 @@ import hashlib
 import heapq
 import json
 import math
+import numbers
 import os
 import shutil
 import time
@@ -51,7 +52,24 @@ _DUBOIS_RIGHT = np.array([[-0.0434706, -0.0879388, -0.00155529], [0.378476, 0.73
 
 class ConvertError(ValueError):
     """A conversion that cannot be done: bad input, bad settings or an output that cannot be
-    written. The message names the file and, for a frame, its number; nothing is left behind."""
+    written. The message names the file and, for a frame, its number; nothing is left behind.
+
+    kind: which, as the command line's exit codes group them (docs/CLI.md "convert"): 'settings'
+    (2: flags that are unknown, out of range or conflicting, an output that is an input or cannot
+    hold the result), 'input' (3: an input missing, unreadable, corrupt or not matching the other),
+    'output' (4: an output that cannot be written) or 'failure' (1: the library refused a frame, a
+    dependency is missing, the cluster failed)."""
+
+    def __init__(self, message, kind="settings"):
+        super().__init__(message)
+        self.kind = kind
+
+    def __reduce__(self):  # the kind survives the trip back from a Dask worker
+        return (type(self), (str(self), self.kind))
+
+
+def _from_media(error):
+    return ConvertError(str(error), error.kind)
 
 
 @dataclasses.dataclass
@@ -212,8 +230,14 @@ def _video_settings(spec, codec, pixel_format, crf, tags, working, width, height
         raise ConvertError(f"crf is for libx264 and libx265, not {spec.codec} (lossless)")
     if spec.codec == "libx265":
         options["x265-params"] = "log-level=error"
-    if spec.codec == "libx264" and layout in _FRAME_PACKING:
-        options["x264-params"] = f"frame-packing={_FRAME_PACKING[layout]}"
+    if spec.codec == "libx264":
+        # cpu-independent: x264's macroblock-tree propagation in its C form. Its AVX-512 form reads
+        # memory it never wrote (picture widths that are not a multiple of 128 pixels), so the
+        # bitstream varied from run to run and a resumed output with it (docs/CLI.md "convert").
+        params = ["cpu-independent=1"]
+        if layout in _FRAME_PACKING:
+            params.append(f"frame-packing={_FRAME_PACKING[layout]}")
+        options["x264-params"] = ":".join(params)
     spec.tags = dict(tags) if _media.Family(pixel_format).kind == "yuv" else {
         k: v for k, v in tags.items() if k in ("color_primaries", "color_trc")}
     options.update(spec.tags)
@@ -229,18 +253,20 @@ def _plan(color, depth, out, layout, suffix, codec, pixel_format, crf, fps, came
     depth_source = _media.Source("depth", depth, fps)
     c, d = color_source, depth_source
     if (c.width, c.height) != (d.width, d.height):
-        raise ConvertError(f"colour '{c.path}' is {c.width}x{c.height} but depth '{d.path}' is {d.width}x{d.height}")
+        raise ConvertError(f"colour '{c.path}' is {c.width}x{c.height} but depth '{d.path}' is {d.width}x{d.height}",
+                           "input")
     if c.count != d.count:
-        raise ConvertError(f"colour '{c.path}' has {c.count} frames but depth '{d.path}' has {d.count}")
+        raise ConvertError(f"colour '{c.path}' has {c.count} frames but depth '{d.path}' has {d.count}", "input")
     if c.kind == "video" and d.kind == "video":
         tolerance = 0.5 / float(max(c.rate or 1, d.rate or 1, 1))
         late = np.flatnonzero(np.abs(c.seconds() - d.seconds()) > tolerance)
         if late.size:
             i = int(late[0])
             raise ConvertError(f"depth '{d.path}' frame {i} is at {d.seconds()[i]:.4f} s but colour '{c.path}' frame {i} "
-                               f"at {c.seconds()[i]:.4f} s (rates {float(d.rate or 0):g} and {float(c.rate or 0):g} fps)")
+                               f"at {c.seconds()[i]:.4f} s (rates {float(d.rate or 0):g} and {float(c.rate or 0):g} fps)", "input")
     if d.family is not None and d.family.kind != "gray":
-        raise ConvertError(f"depth '{d.path}' is {d.family.name}, not grey: depth must be one channel (gray, gray16le, ...)")
+        raise ConvertError(f"depth '{d.path}' is {d.family.name}, not grey: depth must be one channel (gray, gray16le, "
+                           "...)", "input")
     decoder, model, direction = camera
     images_out = "%" in os.fspath(out)
     as_yuv = c.kind == "video" and c.family.kind == "yuv" and not images_out and layout != "anaglyph"
@@ -264,6 +290,7 @@ def _plan(color, depth, out, layout, suffix, codec, pixel_format, crf, fps, came
             clash = next((f for f in finals if os.path.realpath(f) in input_set), None)
             if clash:
                 raise ConvertError(f"output '{clash}' is an input (an output must not replace an input)")
+        _check_writable(finals[0], folder_made=spec.images)
     size = segment_frames or 250
     if size < 1:
         raise ConvertError(f"segment_frames {segment_frames} must be >= 1")
@@ -277,6 +304,23 @@ def _plan(color, depth, out, layout, suffix, codec, pixel_format, crf, fps, came
                 left_to_right=direction != "right-to-left", depth_scale=depth_scale, unknown_depth=unknown_depth,
                 dilate_depth=dilate_depth, warp_options=warp_options, segments=segments, parts=parts,
                 first_number=first_number, threads=threads)
+
+
+def _check_writable(path, folder_made):
+    """An output that cannot be written is refused before any work (as the CLI's outputs are,
+    docs/CLI.md): a folder that is missing (an image sequence's is made) or not a folder, a
+    directory or a device where the file would go."""
+    folder = os.path.dirname(path) or "."
+    if os.path.exists(path) and not os.path.isfile(path):
+        what = "a directory" if os.path.isdir(path) else "not a regular file"
+        raise ConvertError(f"cannot write '{path}': it is {what}", "output")
+    while folder_made and not os.path.exists(folder):
+        folder = os.path.dirname(folder) or "."
+    if not os.path.isdir(folder):
+        raise ConvertError(f"cannot write '{path}': " + (f"'{folder}' is not a folder" if os.path.exists(folder)
+                                                         else f"the folder '{folder}' does not exist"), "output")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ConvertError(f"cannot write '{path}': the folder '{folder}' is not writable", "output")
 
 
 def _first_number(source):
@@ -484,7 +528,7 @@ def _segment(job, index, on_frame=None):
                         previous = warp(color, depth, decoder=decoder, model=model, **options, out=previous)
                         left, right = (color, previous.color) if job.left_to_right else (previous.color, color)
                 except ValueError as error:
-                    raise ConvertError(f"{job.colour.describe(i)}: {error}") from None
+                    raise ConvertError(f"{job.color.describe(i)}: {error}", "failure") from None
                 for part, picture in zip(parts, _pack(left, right, job.layout, job.working[1])):
                     part.write(picture, i)
                 if on_frame:
@@ -494,7 +538,11 @@ def _segment(job, index, on_frame=None):
     except _MediaError as error:
         for part in parts:
             part.abort()
-        raise ConvertError(str(error)) from None
+        raise _from_media(error) from None
+    except (OSError, _media.av().AVError) as error:  # reading errors are MediaErrors by now
+        for part in parts:
+            part.abort()
+        raise ConvertError(f"cannot write segment {index} into '{job.parts}': {error}", "output") from None
     except BaseException:
         for part in parts:
             part.abort()
@@ -529,7 +577,7 @@ def _packets_in_order(job, parts):
         rank = int(np.searchsorted(pts, round(packet.pts * packet.time_base / base)))
         delay, count = max(delay, count - rank), count + 1
     if count != len(pts):
-        raise ConvertError(f"the parts in '{job.parts}' hold {count} frames, not {len(pts)}")
+        raise ConvertError(f"the parts in '{job.parts}' hold {count} frames, not {len(pts)}", "output")
     step = int(pts[1] - pts[0]) if len(pts) > 1 else 1
     for i, packet in enumerate(packets()):
         decoding = int(pts[i - delay]) if i >= delay else int(pts[0]) - (delay - i) * max(step, 1)
@@ -585,23 +633,29 @@ def _join(job):
             folder, name = os.path.split(spec.path)
             temporary = os.path.join(folder, f".{os.path.splitext(name)[0]}.reproject-tmp{os.getpid()}{spec.extension}")
             finished.append((temporary, spec.path))
-            _join_video(job, spec, temporary)
+            try:
+                _join_video(job, spec, temporary)
+            except (OSError, _media.av().AVError) as error:
+                raise ConvertError(f"cannot write '{spec.path}': {error}", "output") from None
     except BaseException:
         for temporary, _ in finished:
             with contextlib.suppress(OSError):
                 os.remove(temporary)
         raise
-    for temporary, final in finished:
-        os.replace(temporary, final)
-    for spec in job.outputs:
-        if spec.images:
-            folder = os.path.dirname(spec.path)
-            if folder:
-                os.makedirs(folder, exist_ok=True)
-            for index in range(len(job.segments)):
-                part = _part_path(job, spec, index)
-                for name in sorted(os.listdir(part)):
-                    os.replace(os.path.join(part, name), os.path.join(folder, name))
+    try:
+        for temporary, final in finished:
+            os.replace(temporary, final)
+        for spec in job.outputs:
+            if spec.images:
+                folder = os.path.dirname(spec.path)
+                if folder:
+                    os.makedirs(folder, exist_ok=True)
+                for index in range(len(job.segments)):
+                    part = _part_path(job, spec, index)
+                    for name in sorted(os.listdir(part)):
+                        os.replace(os.path.join(part, name), os.path.join(folder, name))
+    except OSError as error:
+        raise ConvertError(f"cannot put the outputs into place: {error}", "output") from None
 
 
 # ---- Running ----------------------------------------------------------------------------------------
@@ -627,14 +681,13 @@ def _prepare_parts(job, resume):
             json.dump({"fingerprint": fingerprint}, f)
         os.replace(manifest + ".tmp", manifest)
     except OSError as error:
-        raise ConvertError(f"cannot write the parts folder '{job.parts}': {error}") from None
+        raise ConvertError(f"cannot write the parts folder '{job.parts}': {error}", "output") from None
 
 
 def _preflight(job):
     """Writes the header of each video output's container with the colour input's audio and
     subtitle streams once before any work, so that a stream the container cannot carry (FLAC in
-    .mp4, say) fails at once and costs nothing. (No video encoder is opened here: an x264 instance
-    opened and dropped before the segments' own made their bitstreams vary from run to run.)"""
+    .mp4, say) fails at once and costs nothing."""
     if job.color.kind != "video":
         return
     av = _media.av()
@@ -653,7 +706,7 @@ def _preflight(job):
                     out.start_encoding()
         except (av.AVError, ValueError) as error:
             raise ConvertError(f"output '{spec.path}' cannot carry the audio and subtitle streams of colour "
-                               f"'{job.colour.path}': {error}") from None
+                               f"'{job.color.path}': {error}") from None
         finally:
             with contextlib.suppress(OSError):
                 os.remove(probe)
@@ -668,11 +721,14 @@ def _run_dask(job, todo, workers, scheduler, retries, on_segment):
     try:
         import distributed
     except ImportError:
-        raise ConvertError("workers= and scheduler= need Dask (Debian: python3-distributed)") from None
+        raise ConvertError("workers= and scheduler= need Dask (Debian: python3-distributed)", "failure") from None
     import logging
     with contextlib.ExitStack() as stack:
         if scheduler:
-            client = stack.enter_context(distributed.Client(scheduler, timeout=30))
+            try:
+                client = stack.enter_context(distributed.Client(scheduler, timeout=30))
+            except (OSError, TimeoutError, ValueError) as error:
+                raise ConvertError(f"cannot reach the Dask scheduler '{scheduler}': {error}", "failure") from None
         else:
             cluster = stack.enter_context(distributed.LocalCluster(
                 n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
@@ -681,7 +737,11 @@ def _run_dask(job, todo, workers, scheduler, retries, on_segment):
         futures = client.map(_segment_task, [job] * len(todo), todo, retries=retries, pure=False)
         try:
             for future in distributed.as_completed(futures):
-                frames = future.result()
+                try:
+                    frames = future.result()
+                except distributed.KilledWorker as error:
+                    raise ConvertError(f"a segment's worker died {retries + 1} times, the last time with it: {error}",
+                                       "failure") from None
                 on_segment(frames)
         except BaseException:
             client.cancel(futures)
@@ -734,10 +794,19 @@ def convert(color, depth, out, *, layout="sbsl", suffix=False, codec=None, pixel
     for name, value in (("segment_frames", segment_frames), ("workers", workers)):
         if value is not None and (not isinstance(value, int) or value < 1):
             raise ConvertError(f"{name} must be an integer >= 1, not {value!r}")
+    if not isinstance(retries, int) or retries < 0:
+        raise ConvertError(f"retries {retries!r} must be an integer >= 0")
+    if crf is not None and (not isinstance(crf, int) or not 0 <= crf <= 51):
+        raise ConvertError(f"crf {crf!r} must be an integer in 0..51")
+    if fps is not None and not (isinstance(fps, numbers.Real) and 0 < float(fps) < math.inf):
+        raise ConvertError(f"fps {fps!r} must be a number > 0")
     if workers is not None and scheduler is not None:
         raise ConvertError("workers (a local cluster) and scheduler (a running one) cannot be used together")
     if unknown_depth is not None and unknown_depth != "nan":
-        unknown_depth = float(unknown_depth)
+        try:
+            unknown_depth = float(unknown_depth)
+        except (TypeError, ValueError):
+            raise ConvertError(f"unknown_depth {unknown_depth!r} is neither a number nor 'nan'") from None
     if depth_scale is not None and not (depth_scale > 0 and math.isfinite(depth_scale)):
         raise ConvertError(f"depth_scale {depth_scale} must be finite and > 0")
     if not (isinstance(dilate_depth, int) and 0 <= dilate_depth <= 4096):
@@ -755,7 +824,7 @@ def convert(color, depth, out, *, layout="sbsl", suffix=False, codec=None, pixel
                     unknown_depth, dilate_depth, warp_options, segment_frames, threads)
         _check_camera(job)
     except _MediaError as error:
-        raise ConvertError(str(error)) from None
+        raise _from_media(error) from None
     keep = resume or segment_frames is not None
     _prepare_parts(job, resume)
     total = job.color.count
@@ -792,7 +861,7 @@ def convert(color, depth, out, *, layout="sbsl", suffix=False, codec=None, pixel
                     path = os.path.join(job.parts, name)
                     shutil.rmtree(path, ignore_errors=True) if os.path.isdir(path) else os.remove(path)
         if isinstance(error, _MediaError):
-            raise ConvertError(str(error)) from None
+            raise _from_media(error) from None
         raise
     if bar is not None:
         bar.close()
@@ -806,7 +875,7 @@ def _check_camera(job):
         from . import warp
         probe = np.zeros((2, 2), np.float32)
         warp(probe, probe + (1.0 if job.decoder[0] not in ("disparity",) else 0.0), decoder=decoder, model=model,
-             **dict(job.warp_options, threads=1))
+             **dict(job.warp_options, threads=job.threads))
     except ValueError as error:
         raise ConvertError(str(error)) from None
     except TypeError as error:
@@ -828,8 +897,18 @@ def scene_video(out_dir, *, scene="room", width=640, height=360, frames=48, fps=
     camera (separation, convergence, encoding, depth_scale).
     """
     from . import scene as render
+    for name, value in (("width", width), ("height", height), ("frames", frames), ("fps", fps)):
+        if not isinstance(value, int) or value < 1:
+            raise ConvertError(f"{name} must be an integer >= 1, not {value!r}")
+    try:
+        render(scene, 2, 2, fov=fov, encoding="linear")  # the scene's name and the fov, before any file
+    except ValueError as error:
+        raise ConvertError(str(error)) from None
     av = _media.av()
-    os.makedirs(out_dir, exist_ok=True)
+    try:
+        os.makedirs(out_dir, exist_ok=True)
+    except OSError as error:
+        raise ConvertError(f"cannot create the folder '{out_dir}': {error}", "output") from None
     names = ("centre", "depth", "left", "right", "left_visible", "right_visible")
     formats = {"depth": "gray16le", "left_visible": "gray", "right_visible": "gray"}
     streams, containers = {}, {}
@@ -865,12 +944,14 @@ def scene_video(out_dir, *, scene="room", width=640, height=360, frames=48, fps=
             containers[name].close()
         for name in names:
             os.replace(os.path.join(out_dir, f".{name}.reproject-tmp.mkv"), os.path.join(out_dir, f"{name}.mkv"))
-    except BaseException:
+    except BaseException as error:
         for name, container in containers.items():
             with contextlib.suppress(Exception):
                 container.close()
             with contextlib.suppress(OSError):
                 os.remove(os.path.join(out_dir, f".{name}.reproject-tmp.mkv"))
+        if isinstance(error, (OSError, av.AVError)):
+            raise ConvertError(f"cannot write into '{out_dir}': {error}", "output") from None
         raise
     finally:
         if bar is not None:

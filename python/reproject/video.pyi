@@ -13,7 +13,11 @@ _Path = str | os.PathLike[str]
 layouts: tuple[str, ...]
 codecs: tuple[str, ...]
 
-class ConvertError(ValueError): ...
+ConvertErrorKind = Literal["settings", "input", "output", "failure"]
+
+class ConvertError(ValueError):
+    kind: ConvertErrorKind
+    def __init__(self, message: str, kind: ConvertErrorKind = "settings") -> None: ...
 
 class _SceneCamera(TypedDict):
     encoding: Literal["linear"]

@@ -24,13 +24,17 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 # (primitive whose test must fail, file, text, replacement)
 X86 = [
-    ("vmin", "simd_x86.hpp", "return xsimd::min(a, b);", "return xsimd::min(b, a);"),
-    ("vmax", "simd_x86.hpp", "return xsimd::max(a, b);", "return xsimd::max(b, a);"),
-    ("vfloor", "simd_x86.hpp", "return xsimd::floor(x);", "return xsimd::floor(x) + F(0.0f);"),
+    ("vmin", "simd_x86.hpp", "static F min(const F& a, const F& b) { return _mm256_min_ps(a, b); }",
+     "static F min(const F& a, const F& b) { return _mm256_min_ps(b, a); }"),
+    ("vmax", "simd_x86.hpp", "static F max(const F& a, const F& b) { return _mm_max_ps(a, b); }",
+     "static F max(const F& a, const F& b) { return _mm_max_ps(b, a); }"),
+    ("vfloor", "simd_x86.hpp", "return X86SetOf<F>::floor(x);", "return X86SetOf<F>::floor(x) + F(0.0f);"),
     ("vdiv", "simd_x86.hpp", "return a / b;", "return a * (F(1.0f) / b);"),
     ("vmadd", "simd_x86.hpp", "return X86SetOf<F>::fmadd(a, b, c);", "return a * b + c;"),
-    ("round_to_int", "simd_x86.hpp", "return xsimd::nearbyint_as_int(x);", "return xsimd::to_int(xsimd::round(x));"),
-    ("bits_of", "simd_x86.hpp", "return xsimd::bitwise_cast<xsimd::batch<std::int32_t, Arch>>(v);", "return xsimd::to_int(v);"),
+    ("round_to_int", "simd_x86.hpp", "static I round_to_int(const F& x) { return _mm512_cvtps_epi32(x); }",
+     "static I round_to_int(const F& x) { return _mm512_cvttps_epi32(x); }"),
+    ("bits_of", "simd_x86.hpp", "static I bits_of(const F& v) { return _mm256_castps_si256(v); }",
+     "static I bits_of(const F& v) { return _mm256_cvtps_epi32(v); }"),
     ("byte_lanes", "simd_x86.hpp", "if constexpr (Byte == 3) return _mm256_srli_epi32(w, 24);",
      "if constexpr (Byte == 3) return _mm256_srli_epi32(w, 23);"),
     ("gather", "simd_x86.hpp", "_mm256_i32gather_ps(base, index, 4)", "_mm256_i32gather_ps(base + 1, index, 4)"),

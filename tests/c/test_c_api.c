@@ -489,7 +489,8 @@ static void format_errors(void) {
    * value inside the enums' 0..255 that no constant has and for one beyond it (256 + 1 must not
    * wrap onto 1's name). */
   CHECK(strcmp(reproject_status_name(REPROJECT_CANCELLED), "cancelled") == 0, "status name");
-  CHECK(strcmp(reproject_status_name(REPROJECT_CANCELLED + 1), "unknown") == 0, "unknown status name");
+  CHECK(strcmp(reproject_status_name(REPROJECT_OUT_OF_MEMORY), "out_of_memory") == 0, "status name");
+  CHECK(strcmp(reproject_status_name(REPROJECT_OUT_OF_MEMORY + 1), "unknown") == 0, "unknown status name");
   CHECK(strcmp(reproject_status_name(-1), "unknown") == 0, "negative status name");
   CHECK(strcmp(reproject_status_name(256 + REPROJECT_NULL_POINTER), "unknown") == 0, "status name beyond 255");
   CHECK(strcmp(reproject_method_name(REPROJECT_METHOD_EXACT), "exact") == 0, "method name");
@@ -576,6 +577,67 @@ static int formats_match_cxx(const ColorCase* cf, const DepthCase* df, int arch,
   return same;
 }
 
+/* The host's allocator through the C interface: a counting one, and one that has nothing. */
+static long c_allocations = 0, c_outstanding = 0, c_refuse = 0;
+/* C99 has no aligned allocation: malloc more, align by hand, keep malloc's pointer just before. */
+static void* c_allocate(void* user, size_t size, size_t alignment) {
+  unsigned char* raw;
+  uintptr_t start;
+  (void)user;
+  if (c_refuse) return NULL;
+  raw = (unsigned char*)malloc(size + alignment + sizeof(void*));
+  if (raw == NULL) return NULL;
+  start = ((uintptr_t)(raw + sizeof(void*)) + alignment - 1) & ~(uintptr_t)(alignment - 1);
+  ((void**)start)[-1] = raw;
+  ++c_allocations;
+  c_outstanding += (long)size;
+  return (void*)start;
+}
+static void c_deallocate(void* user, void* pointer, size_t size, size_t alignment) {
+  (void)user;
+  (void)alignment;
+  c_outstanding -= (long)size;
+  free(((void**)pointer)[-1]);
+}
+
+static void allocator_checks(const reproject_source* source, const reproject_decoder* decoder,
+                             const reproject_parallax* model) {
+  reproject_allocator host, half;
+  reproject_options options;
+  reproject_target target = target_of(&c_out);
+  reproject_status status;
+  host.allocate = c_allocate;
+  host.deallocate = c_deallocate;
+  host.user = NULL;
+  half = host;
+  half.deallocate = NULL;
+  reproject_options_init(&options);
+  options.threads = 2;
+  reproject_release_memory();
+  CHECK(reproject_memory_in_use() == 0, "memory in use after release: %lu", (unsigned long)reproject_memory_in_use());
+  CHECK(reproject_set_allocator(&half) == REPROJECT_INVALID_OPTION, "an allocator without deallocate accepted");
+  CHECK(reproject_set_allocator(&host) == REPROJECT_OK, "%s", reproject_last_error_message());
+  CHECK(reproject_warp(source, decoder, model, &options, &target, NULL) == REPROJECT_OK, "%s",
+        reproject_last_error_message());
+  CHECK(c_allocations > 0 && c_outstanding > 0 && (size_t)c_outstanding == reproject_memory_in_use(),
+        "the host's allocator: %ld allocations, %ld bytes out, the library says %lu", c_allocations, c_outstanding,
+        (unsigned long)reproject_memory_in_use());
+  CHECK(reproject_set_allocator(NULL) == REPROJECT_INVALID_OPTION, "set_allocator accepted while memory is held");
+  reproject_release_memory();
+  CHECK(c_outstanding == 0, "%ld bytes still out after reproject_release_memory()", c_outstanding);
+  c_refuse = 1;
+  status = reproject_warp(source, decoder, model, &options, &target, NULL);
+  CHECK(status == REPROJECT_OUT_OF_MEMORY, "warp with no memory returned %s: %s", reproject_status_name(status),
+        reproject_last_error_message());
+  CHECK(strcmp(reproject_status_name(REPROJECT_OUT_OF_MEMORY), "out_of_memory") == 0, "status name");
+  c_refuse = 0;
+  reproject_release_memory();
+  CHECK(c_outstanding == 0, "%ld bytes still out after a failed call", c_outstanding);
+  CHECK(reproject_set_allocator(NULL) == REPROJECT_OK, "%s", reproject_last_error_message());
+  printf("allocator: %ld allocations through the host's, all given back; no memory: REPROJECT_OUT_OF_MEMORY\n",
+         c_allocations);
+}
+
 int main(void) {
   reproject_decoder decoder;
   reproject_parallax model, centre_to_right;
@@ -619,6 +681,7 @@ int main(void) {
   }
   make_frame(&decoder);
   source = source_of();
+  allocator_checks(&source, &decoder, &model);
   for (c = 0; c < C; ++c) {
     planes_in[c] = color_in[c];
     planes_out[c] = cpp_out.color[c];

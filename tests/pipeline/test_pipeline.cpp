@@ -1,6 +1,6 @@
 // The stereo pipeline functions (include/reproject/stereo.hpp), each against an independent
 // computation: DESIGN's formulas evaluated here in double, the stereo projection matrices that
-// StereoCamera builds, and the ray-cast scenes (src/scene), whose true depth and true eyes are
+// StereoCamera builds, and the ray-cast scenes (scene/), whose true depth and true eyes are
 // known. The figures worth reading (PSNR with and without the halo filter, reconstruction
 // errors, picking errors) are printed.
 #include <gtest/gtest.h>

@@ -5,6 +5,8 @@ import fractions
 import inspect
 import os
 import pathlib
+import pickle
+import re
 import subprocess
 import sys
 
@@ -247,15 +249,16 @@ def test_bad_input_is_named_and_leaves_nothing(clip, tmp_path):
     before = listing(tmp_path)
     out = tmp_path / "o.mkv"
     cases = [
-        ((clip / "rgb.mkv", small, out), r"colour '.*rgb.mkv' is 96x64 but depth '.*small.mkv' is 96x32"),
-        ((clip / "rgb.mkv", short, out), r"colour '.*rgb.mkv' has 20 frames but depth '.*short.mkv' has 19"),
-        ((clip / "rgb.mkv", clip / "rgb.mkv", out), r"depth '.*rgb.mkv' is bgr0, not grey"),
-        ((clip / "rgb.mkv", clip / "depth.mkv", clip / "rgb.mkv"), r"output '.*rgb.mkv' is the input"),
-        ((broken, clip / "depth.mkv", out), r"colour '.*broken.mkv' (frame \d+|has \d+ frames|cannot)"),
+        ((clip / "rgb.mkv", small, out), r"colour '.*rgb.mkv' is 96x64 but depth '.*small.mkv' is 96x32", "input"),
+        ((clip / "rgb.mkv", short, out), r"colour '.*rgb.mkv' has 20 frames but depth '.*short.mkv' has 19", "input"),
+        ((clip / "rgb.mkv", clip / "rgb.mkv", out), r"depth '.*rgb.mkv' is bgr0, not grey", "input"),
+        ((clip / "rgb.mkv", clip / "depth.mkv", clip / "rgb.mkv"), r"output '.*rgb.mkv' is the input", "settings"),
+        ((broken, clip / "depth.mkv", out), r"colour '.*broken.mkv' (frame \d+|has \d+ frames|cannot)", "input"),
     ]
-    for args, message in cases:
-        with pytest.raises(ConvertError, match=message):
+    for args, message, kind in cases:
+        with pytest.raises(ConvertError, match=message) as raised:
             convert(*args, codec="ffv1", segment_frames=5, **CAMERA)
+        assert raised.value.kind == kind, message
         assert listing(tmp_path) == before, message
     with pytest.raises(ConvertError, match=r"unknown layout 'side' \(sbsl, sbsr"):
         convert(clip / "rgb.mkv", clip / "depth.mkv", out, layout="side", **CAMERA)
@@ -301,10 +304,52 @@ def test_the_command_line(clip, tmp_path):
     assert done.returncode == 0, done.stderr
     assert done.stdout == f"wrote {tmp_path / 'o.mkv'}\n" and done.stderr == ""
     assert media.decoded(tmp_path / "o.mkv", "rgb24")[0][1].shape == (2 * H, W, 3)
-    failed = subprocess.run(run + ["--out", str(tmp_path / "x.mkv")], capture_output=True, text=True)
-    assert failed.returncode == 1 and failed.stderr.startswith("reproject: error: convergence=")
     usage = subprocess.run(run[:4], capture_output=True, text=True)
     assert usage.returncode == 2 and "required: --color" in usage.stderr
+    # The C++ tool's exit codes for the same kinds of failure (docs/CLI.md "convert"), nothing left.
+    small = tmp_path / "small.mkv"
+    media.write_video(small, [np.zeros((H // 2, W), np.uint16)] * N, "gray16le", source_format="gray16le")
+    (tmp_path / "folder.mkv").mkdir()
+    before = listing(tmp_path)
+    for flags, code, message in [
+            (["--out", str(tmp_path / "x.mkv")], 2, r"convergence= \(--convergence\) is required"),
+            (["--convergence", "4", "--out", str(tmp_path / "x.mkv"), "--layout", "side"], 2, "unknown layout 'side'"),
+            (["--convergence", "4", "--out", str(clip / "depth.mkv")], 2, "is the input"),
+            (["--convergence", "4", "--out", str(tmp_path / "x.mkv"), "--unknown-depth", "many"], 2,
+             "unknown_depth 'many' is neither a number nor 'nan'"),
+            (["--convergence", "4", "--out", str(tmp_path / "x.mkv"), "--threads", "-3"], 2, "threads: -3 is negative"),
+            (["--convergence", "4", "--out", str(tmp_path / "x.mkv"), "--crf", "52"], 2,
+             "crf 52 must be an integer in 0..51"),
+            (["--convergence", "4", "--out", str(tmp_path / "x.mkv"), "--retries", "-1"], 2,
+             "retries -1 must be an integer >= 0"),
+            (["--convergence", "4", "--out", str(tmp_path / "x.mkv"), "--depth", str(tmp_path / "none.mkv")], 3,
+             "depth '.*none.mkv' does not exist"),
+            (["--convergence", "4", "--out", str(tmp_path / "x.mkv"), "--depth", str(small)], 3,
+             "colour '.*rgb.mkv' is 96x64 but depth '.*small.mkv' is 96x32"),
+            (["--convergence", "4", "--out", str(tmp_path / "missing" / "x.mkv")], 4,
+             "cannot write '.*x.mkv': the folder '.*missing' does not exist"),
+            (["--convergence", "4", "--out", str(tmp_path / "folder.mkv")], 4, "cannot write '.*folder.mkv': it is a "
+                                                                             "directory")]:
+        failed = subprocess.run(run + flags + ["--codec", "ffv1"], capture_output=True, text=True)
+        assert failed.returncode == code and failed.stderr.startswith("reproject: error: "), (flags, failed.stderr)
+        assert re.search(message, failed.stderr) and failed.stderr.count("\n") == 1, failed.stderr
+        assert listing(tmp_path) == before, flags
+
+
+def test_an_errors_kind_names_its_exit_code_and_survives_a_trip_through_pickle(clip, tmp_path):
+    # Dask sends a worker's exception back pickled: its kind must come with it.
+    for kind in ("settings", "input", "output", "failure"):
+        error = pickle.loads(pickle.dumps(ConvertError("message", kind)))
+        assert isinstance(error, ConvertError) and error.kind == kind and str(error) == "message"
+    with pytest.raises(ConvertError) as raised:
+        convert(clip / "rgb.mkv", clip / "depth.mkv", tmp_path / "o.mkv", layout="side", **CAMERA)
+    assert raised.value.kind == "settings"
+    with pytest.raises(ConvertError) as raised:
+        convert(clip / "rgb.mkv", tmp_path / "none.mkv", tmp_path / "o.mkv", **CAMERA)
+    assert raised.value.kind == "input"
+    with pytest.raises(ConvertError) as raised:
+        convert(clip / "rgb.mkv", clip / "depth.mkv", tmp_path / "no" / "o.mkv", **CAMERA)
+    assert raised.value.kind == "output"
 
 
 def test_the_video_stub_names_every_public_name_with_its_parameters():

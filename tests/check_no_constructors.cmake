@@ -1,0 +1,26 @@
+# ctest Library.NoGlobalConstructors: no object of the library archive runs code at load time
+# (no .init_array or .ctors section): the library starts nothing (threads, allocations, CPU
+# detection) before the host's first call, so an engine can set its allocator first.
+#   cmake -DOBJDUMP=<objdump> -DARCHIVE=<libreproject.a> -P check_no_constructors.cmake
+execute_process(COMMAND "${OBJDUMP}" -h "${ARCHIVE}" OUTPUT_VARIABLE listing ERROR_VARIABLE errors RESULT_VARIABLE result)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "${OBJDUMP} -h ${ARCHIVE} failed (${result}): ${errors}")
+endif()
+set(member "")
+set(found "")
+string(REPLACE "\n" ";" lines "${listing}")
+foreach(line IN LISTS lines)
+  if(line MATCHES "^([^ \t]+\\.o(bj)?):[ \t]+file format")
+    set(member "${CMAKE_MATCH_1}")
+  elseif(line MATCHES "[ \t](\\.init_array|\\.ctors)")
+    list(APPEND found "${member} (${CMAKE_MATCH_1})")
+  endif()
+endforeach()
+if(found)
+  list(REMOVE_DUPLICATES found)
+  string(REPLACE ";" "\n  " shown "${found}")
+  message(FATAL_ERROR "objects with global constructors:\n  ${shown}")
+endif()
+string(REGEX MATCHALL "file format" members "${listing}")
+list(LENGTH members count)
+message(STATUS "${count} objects, none with a global constructor")
