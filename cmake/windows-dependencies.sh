@@ -85,6 +85,17 @@ if(NOT TARGET xsimd)
   set_target_properties(xsimd PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_xsimd_prefix}/include")
 endif()
 CONFIG
+# Its version, from the headers (reproject's CMakeLists.txt checks it): a request for another major
+# version is refused, as xsimd's own package does.
+xsimd_version=$(sed -n 's/^#define XSIMD_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9][0-9]*\)$/\2/p' \
+  "$prefix/include/xsimd/config/xsimd_config.hpp" | paste -sd .)
+cat > "$prefix/lib/cmake/xsimd/xsimdConfigVersion.cmake" <<VERSION
+set(PACKAGE_VERSION "$xsimd_version")
+set(PACKAGE_VERSION_COMPATIBLE TRUE)
+if(PACKAGE_FIND_VERSION AND (NOT PACKAGE_FIND_VERSION_MAJOR EQUAL "${xsimd_version%%.*}" OR PACKAGE_VERSION VERSION_LESS PACKAGE_FIND_VERSION))
+  set(PACKAGE_VERSION_COMPATIBLE FALSE)
+endif()
+VERSION
 
 build googletest /usr/src/googletest -DBUILD_GMOCK=OFF
 build libpng "$(source_dir libpng1.6)" -DPNG_SHARED=OFF -DPNG_EXECUTABLES=OFF -DPNG_TESTS=OFF "${zlib[@]}"
