@@ -48,6 +48,9 @@ int main(int argc, char** system_argv) {
   }
   const std::string command = argv[1];
   remove_temporaries_on_signals();
+  // A command that fails after Ctrl-C was interrupted, whatever step failed (Windows: once the
+  // console handler has removed the temporary files, a write under way fails).
+  auto failed = [](int code) { return interruption()->load() ? static_cast<int>(kExitInterrupted) : code; };
   try {
     // Before the arch check: the version is printed whatever the environment says.
     if (command == "--version") {
@@ -72,14 +75,14 @@ int main(int argc, char** system_argv) {
     // Outputs are flushed first so that the error is the last line a user sees.
     std::fflush(stdout);
     std::fprintf(stderr, "reproject: error: %s\n", f.message.c_str());
-    return f.code;
+    return failed(f.code);
   } catch (const std::bad_alloc&) {
     std::fflush(stdout);
     std::fprintf(stderr, "reproject: error: out of memory\n");
-    return kExitRuntime;
+    return failed(kExitRuntime);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "reproject: error: %s\n", e.what());
-    return kExitRuntime;
+    return failed(kExitRuntime);
   }
 }
