@@ -92,6 +92,15 @@ xsimd::batch<float, Arch> float_bits(const xsimd::batch<std::int32_t, Arch>& v);
 template <int Byte, class Arch>
 xsimd::batch<std::int32_t, Arch> byte_lanes(const xsimd::batch<std::int32_t, Arch>& w);
 
+// RGBA8 pixels (a 32-bit word per lane, a channel per byte) blended in fixed point: each channel
+// c0 + floor(((c1 - c0) w + 2^14) / 2^15) of the lane's weight w in [0, 32767] (kernels/codes.hpp
+// blend_u8_q15: the rounding of pmulhrsw and vqrdmulh), every byte of every lane. Any other weight
+// is not specified.
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> blend_rgba8_q15(const xsimd::batch<std::int32_t, Arch>& c0,
+                                                 const xsimd::batch<std::int32_t, Arch>& c1,
+                                                 const xsimd::batch<std::int32_t, Arch>& weight);
+
 // ---- Reading a row at data-dependent columns ----
 
 // Lane i is the 4 bytes at base + index[i] (in floats), bit for bit. `base` may sit at any byte

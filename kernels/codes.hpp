@@ -46,6 +46,18 @@ inline float clamp_code(float x, float max) noexcept {
   return x < max ? x : max;
 }
 
+// ---- 8-bit channels blended in fixed point (docs/BEHAVIOUR.md "Pixel formats") ----
+
+// The blend weight as a 15-bit fraction: floor(frac 2^15) for frac in [0, 1), so 0..32767 (the
+// scale by a power of two is exact; the conversion truncates).
+inline std::int32_t weight_q15(float frac) noexcept { return static_cast<std::int32_t>(frac * 32768.0f); }
+// c0 + (c1 - c0) w / 2^15 rounded half up: floor(((c1 - c0) w + 2^14) / 2^15), the rounding of
+// pmulhrsw and vqrdmulh. Always between c0 and c1, so no clamp.
+inline std::uint8_t blend_u8_q15(std::uint8_t c0, std::uint8_t c1, std::int32_t w) noexcept {
+  const std::int32_t d = static_cast<std::int32_t>(c1) - static_cast<std::int32_t>(c0);
+  return static_cast<std::uint8_t>(c0 + ((d * w + 16384) >> 15));
+}
+
 // UNORM: the value code / max (max = 2^bits - 1) correctly rounded, and the code of a value.
 inline float unorm_value(std::uint32_t code, float max) noexcept { return static_cast<float>(code) / max; }
 inline std::uint32_t unorm_code(float d, float max) noexcept {

@@ -71,7 +71,6 @@ struct ColorRow {
     }
   }
   static float blend(float frac, float c0, float c1) { return madd<Fma>(frac, c1 - c0, c0); }
-  static std::uint8_t unorm8(float value) { return static_cast<std::uint8_t>(round_even(clamp_code(value, 255.0f))); }
 
   void write(int t, int j0, int j1, float frac, bool black) const {
     const std::ptrdiff_t a = j0, b = j1, out = t;
@@ -89,7 +88,7 @@ struct ColorRow {
           } else if (format == ColorFormat::rgba8_srgb && c < 3) {
             value = srgb_encode(*srgb, blend(frac, srgb->to_linear[c0], srgb->to_linear[c1]));
           } else {
-            value = unorm8(blend(frac, static_cast<float>(c0), static_cast<float>(c1)));
+            value = blend_u8_q15(c0, c1, weight_q15(frac));
           }
           dst_bytes[4 * out + c] = value;
         }

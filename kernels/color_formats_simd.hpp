@@ -13,25 +13,25 @@
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// rgba8 / rgba8_srgb: L pixels' words blended channel by channel (scalar twin: ColorRow::write).
-// The rgba8 blend of two bytes lies between them (frac is in [0, 1] and both ends are floats),
-// so the scalar reference's clamp never acts and the rounding is the conversion instruction's
-// (round to nearest even, the default mode the scalar (x + 2^23) - 2^23 relies on too).
+// rgba8 / rgba8_srgb: L pixels' words blended (scalar twin: ColorRow::write). The bytes of rgba8
+// (and rgba8_srgb's alpha) in fixed point, every channel of every pixel at once (the arch layer's
+// blend_rgba8_q15: the same integers as blend_u8_q15, so every set stores the same bytes);
+// rgba8_srgb's R, G, B in linear light through the sRGB tables.
 template <class Arch, class Fma, bool Srgb>
 REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0,
                                                                  const IntLanes<Arch>& w1,
                                                                  const xsimd::batch<float, Arch>& frac) {
   using F = typename Lanes<Arch>::F;
   using I = IntLanes<Arch>;
-  I out(0);
-  auto channel = [&](auto c_tag) {
-    constexpr int c = decltype(c_tag)::value;
-    const I b0 = byte_lanes<c, Arch>(w0);
-    const I b1 = byte_lanes<c, Arch>(w1);
-    I byte;
-    if constexpr (Srgb && c < 3) {
-      const F l0 = gather<Arch>(f.srgb->to_linear, b0);
-      const F l1 = gather<Arch>(f.srgb->to_linear, b1);
+  const I fixed = blend_rgba8_q15<Arch>(w0, w1, xsimd::to_int(frac * F(32768.0f)));  // weight_q15
+  if constexpr (!Srgb) {
+    return fixed;
+  } else {
+    I out = fixed & I(static_cast<std::int32_t>(0xff000000u));  // alpha as rgba8
+    auto channel = [&](auto c_tag) {
+      constexpr int c = decltype(c_tag)::value;
+      const F l0 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w0));
+      const F l1 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w1));
       const F linear = vmadd<Fma>(frac, l1 - l0, l0);
       // srgb_encode: the bucket's byte, plus one at or beyond its threshold.
       const F lowest(float_of_bits(kSrgbFirstBucket << kSrgbBucketShift));
@@ -40,18 +40,13 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
       const I bucket = (bits_of<Arch>(l) >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket));
       const I first = bits_of<Arch>(gather<Arch>(reinterpret_cast<const float*>(f.srgb->bucket_byte), bucket));
       const F next = gather<Arch>(f.srgb->bucket_next, bucket);
-      byte = first + xsimd::to_int(xsimd::select(l >= next, F(1.0f), F(0.0f)));
-    } else {
-      // float(b1 - b0) is float(b1) - float(b0) exactly (small integers): one conversion fewer.
-      byte = round_to_int<Arch>(vmadd<Fma>(frac, xsimd::to_float(b1 - b0), xsimd::to_float(b0)));
-    }
-    out = c == 0 ? byte : out | (byte << (8 * c));
-  };
-  channel(std::integral_constant<int, 0>{});
-  channel(std::integral_constant<int, 1>{});
-  channel(std::integral_constant<int, 2>{});
-  channel(std::integral_constant<int, 3>{});
-  return out;
+      out = out | ((first + xsimd::to_int(xsimd::select(l >= next, F(1.0f), F(0.0f)))) << (8 * c));
+    };
+    channel(std::integral_constant<int, 0>{});
+    channel(std::integral_constant<int, 1>{});
+    channel(std::integral_constant<int, 2>{});
+    return out;
+  }
 }
 
 // Float RGBA and rgba16f: a pixel's four channels are one 128-bit register, so each lane's pixel

@@ -268,23 +268,33 @@ REPROJECT_NOINLINE void resolve_vector(const RowContext<Arch>& row, int t, Tally
   if (row.x_out) x.store_unaligned(row.x_out + t);
 }
 
-// Colour and depth of hit pixels [t, t + L) (every lane written, none black) for one column
-// fetch: ColumnFetch::visit's body in the hit loop. A functor so that it can be forced inline:
-// GCC kept the equivalent lambda out of line, and the call per vector passed its vector arguments
-// through memory (docs/PERFORMANCE.md, "Measured design choices").
-template <ColorPath Path, bool WithDepth, class Arch, class Fma>
+// The hit loop's body for one vector and one column fetch (ColumnFetch::plan_next_and_visit):
+// the columns' parallax, and, unless they hold a wall (a hole to fill: false, the vector goes to
+// resolve_vector), the colour and depth of hit pixels [t, t + L) (every lane written, none black).
+// A functor so that it can be forced inline: GCC kept an equivalent lambda out of line, and the
+// call per vector passed its vector arguments through memory (docs/PERFORMANCE.md, "Measured
+// design choices").
+template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally>
 struct WriteHits {
   using F = typename Lanes<Arch>::F;
   using B = typename Lanes<Arch>::B;
   const RowContext<Arch>& row;
+  Tally& tally;
   int t;
   F j0, j1, frac;
+  B clipped;
 
   template <class Fetch>
-  REPROJECT_ALWAYS_INLINE void operator()(const Fetch& fetch) const {
+  REPROJECT_ALWAYS_INLINE bool operator()(const Fetch& fetch) const {
+    F p0, p1;
+    fetch(row.parallax, p0, p1);
+    if (xsimd::any(((p1 - p0) > row.tau) & ~clipped)) return false;  // a wall: a hole's fill
+    tally.add(static_cast<int>(Fetch::mode));
+    prefetch_next_row<Path>(row, t);
     const B none(false);
     write_color<Path, Arch, Fma>(row, fetch, t, j0, j1, frac, ~none, none, false, false);
     if constexpr (WithDepth) write_depth<Arch, Fma>(row, fetch, t, frac, ~none, false);
+    return true;
   }
 };
 
@@ -301,6 +311,7 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
   // may alias anything, so fields read through a reference would be reloaded after each of them.
   const RowContext<Arch> row = whole_row;
   const F zero(0.0f), one(1.0f);
+  ColumnFetch<Arch> columns(row.source_width);
   for (int t = 0; t < whole; t += L) {
     const F x = F::load_unaligned(row.source_x + t);
     // All in [0, last] (a NaN x fails too, and takes the general path).
@@ -313,16 +324,10 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
     const F j0 = vfloor(xc);
     const F j1 = vmin(j0 + one, row.last);
     const F frac = xc - j0;
-    const ColumnFetch<Arch> columns(j0, j1, row.source_width);
-    F p0, p1;
-    columns.fetch(row.parallax, p0, p1);
-    if (xsimd::any(((p1 - p0) > row.tau) & ~clipped)) {  // a wall: a hole's fill
+    if (!columns.plan_next_and_visit(j0, j1, WriteHits<Path, WithDepth, Arch, Fma, Tally>{row, tally, t, j0, j1, frac, clipped})) {
       resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;
     }
-    tally.add(static_cast<int>(columns.mode()));
-    prefetch_next_row<Path>(row, t);
-    columns.visit(WriteHits<Path, WithDepth, Arch, Fma>{row, t, j0, j1, frac});
     if (row.status_out) {
       store_bytes<Arch>(xsimd::any(clipped) ? xsimd::select(clipped, F(3.0f), zero) : zero, row.status_out + t);
     }

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 #include <xsimd/xsimd.hpp>
 
 #include "kernels/arch_layer.hpp"
@@ -95,14 +96,28 @@ class ColumnFetch {
 
   // Columns first[i] and second[i] (first <= second) will be read from rows that hold at
   // least `row_length` columns; every load stays inside them.
+  explicit ColumnFetch(int row_length) : row_length_(row_length) {}
   ColumnFetch(const F& first, const F& second, int row_length) : row_length_(row_length) { bind(first, second); }
-
-  // (Re)plans for new column sets (hole fills).
-  void bind(const F& first, const F& second) { mode_ = plan(first, second); }
 
   // The order of a tally's modes.
   enum class Mode { consecutive, shifted, spanning, gather };
   Mode mode() const { return mode_; }
+
+  // (Re)plans for new column sets (hole fills).
+  void bind(const F& first, const F& second) {
+    plan<false>(first, second, [&](auto mode) REPROJECT_ALWAYS_INLINE { mode_ = decltype(mode)::value; });
+  }
+
+  // Plans for first and second = min(first + 1, last column) (the hit loop's columns), then
+  // returns body(fetch) with a fetch compiled for the plan: one branch per vector, on the plan
+  // itself, instead of a plan and then a switch on it.
+  template <class Body>
+  REPROJECT_ALWAYS_INLINE bool plan_next_and_visit(const F& first, const F& second, const Body& body) {
+    return plan<true>(first, second, [&](auto mode) REPROJECT_ALWAYS_INLINE {
+      mode_ = decltype(mode)::value;
+      return body(Fetch<decltype(mode)::value>{this});
+    });
+  }
 
   // A row's values at both column sets.
   void fetch(const float* row, F& at_first, F& at_second) const {
@@ -123,15 +138,23 @@ class ColumnFetch {
   }
 
  private:
-  Mode plan(const F& first, const F& second) {
+  template <Mode M>
+  using ModeTag = std::integral_constant<Mode, M>;
+
+  // Sets the lane indices of the plan for first and second and returns on(ModeTag). SecondIsNext:
+  // the caller promises second = min(first + 1, last column) (so a consecutive first, whose
+  // columns end before the row does, has a consecutive second).
+  template <bool SecondIsNext, class OnMode>
+  REPROJECT_ALWAYS_INLINE auto plan(const F& first, const F& second, const OnMode& on) {
     if constexpr (has_permute<Arch>()) {
       // Lane i reads column base + i (and base + i + 1): plain loads, nothing to permute. Tested
       // from lane 0 first, without a reduction: the common case on smooth surfaces.
       const float lane0 = first_lane<Arch>(first);
       const F lanes = F(lane0) + lane_offsets<Arch>();
       base_ = static_cast<int>(lane0);
-      if (base_ + L < row_length_ && xsimd::all((first == lanes) & (second == lanes + F(1.0f)))) {
-        return Mode::consecutive;
+      if (base_ + L < row_length_ &&
+          xsimd::all(SecondIsNext ? first == lanes : (first == lanes) & (second == lanes + F(1.0f)))) {
+        return on(ModeTag<Mode::consecutive>{});
       }
       const float lowest = lane_min<Arch>(first);
       base_ = static_cast<int>(lowest);
@@ -142,25 +165,29 @@ class ColumnFetch {
                      (second_from_base <= F(static_cast<float>(L))))) {
         index_for_permute(first_, xsimd::to_int(from_base));
         index_for_permute(second_, xsimd::to_int(second_from_base - F(1.0f)));
-        return Mode::shifted;
+        return on(ModeTag<Mode::shifted>{});
       }
       if (base_ + 2 * L <= row_length_ && xsimd::all(second_from_base < F(static_cast<float>(2 * L)))) {
         index_for_two_registers(first_, xsimd::to_int(from_base));
         index_for_two_registers(second_, xsimd::to_int(second_from_base));
-        return Mode::spanning;
+        return on(ModeTag<Mode::spanning>{});
       }
     }
     index_for_gather(first_, xsimd::to_int(first));
     index_for_gather(second_, xsimd::to_int(second));
-    return Mode::gather;
+    return on(ModeTag<Mode::gather>{});
   }
 
+ public:
+  // A fetch compiled for one mode: fetch(row, at_first, at_second).
   template <Mode M>
   struct Fetch {
+    static constexpr Mode mode = M;
     const ColumnFetch* columns;
     void operator()(const float* row, F& at_first, F& at_second) const { columns->fetch_as<M>(row, at_first, at_second); }
   };
 
+ private:
   template <Mode M>
   void fetch_as(const float* row, F& at_first, F& at_second) const {
     if constexpr (has_permute<Arch>()) {

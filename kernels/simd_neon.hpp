@@ -87,6 +87,26 @@ xsimd::batch<std::int32_t, Arch> byte_lanes(const xsimd::batch<std::int32_t, Arc
   }
 }
 
+// RGBA8 blended in fixed point: channels widened to 16 bits (pixels 0-1, then 2-3), each pixel's
+// weight copied to its channels by a table look-up, vqrdmulh (floor((2 d w + 2^15) / 2^16), the
+// same as pmulhrsw's rounding; no operand here can saturate), narrowed back.
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> blend_rgba8_q15(const xsimd::batch<std::int32_t, Arch>& c0,
+                                                 const xsimd::batch<std::int32_t, Arch>& c1,
+                                                 const xsimd::batch<std::int32_t, Arch>& weight) {
+  alignas(16) static const std::uint8_t first[16] = {0, 1, 0, 1, 0, 1, 0, 1, 4, 5, 4, 5, 4, 5, 4, 5};
+  alignas(16) static const std::uint8_t second[16] = {8, 9, 8, 9, 8, 9, 8, 9, 12, 13, 12, 13, 12, 13, 12, 13};
+  const uint8x16_t a = vreinterpretq_u8_s32(c0), b = vreinterpretq_u8_s32(c1), w = vreinterpretq_u8_s32(weight);
+  const int16x8_t a0 = vreinterpretq_s16_u16(vmovl_u8(vget_low_u8(a))), a1 = vreinterpretq_s16_u16(vmovl_u8(vget_high_u8(a)));
+  const int16x8_t d0 = vsubq_s16(vreinterpretq_s16_u16(vmovl_u8(vget_low_u8(b))), a0);
+  const int16x8_t d1 = vsubq_s16(vreinterpretq_s16_u16(vmovl_u8(vget_high_u8(b))), a1);
+  const int16x8_t w0 = vreinterpretq_s16_u8(vqtbl1q_u8(w, vld1q_u8(first)));
+  const int16x8_t w1 = vreinterpretq_s16_u8(vqtbl1q_u8(w, vld1q_u8(second)));
+  const uint8x8_t r0 = vqmovun_s16(vaddq_s16(a0, vqrdmulhq_s16(d0, w0)));
+  const uint8x8_t r1 = vqmovun_s16(vaddq_s16(a1, vqrdmulhq_s16(d1, w1)));
+  return vreinterpretq_s32_u8(vcombine_u8(r0, r1));
+}
+
 // Correctly rounded division: xsimd 8.1's float division on neon64 is a reciprocal estimate
 // refined by two Newton steps (not correctly rounded); vdivq_f32 is IEEE division.
 template <class F>

@@ -38,183 +38,17 @@ I total_order_key(const I& bits) {
   return bits ^ ((bits >> 31) & I(0x7fffffff));
 }
 
-// ---- SSE4.1: 4 lanes, no FMA, no variable permute ----
-template <>
-struct X86Set<xsimd::sse4_1> {
-  using F = xsimd::batch<float, xsimd::sse4_1>;
-  using I = xsimd::batch<std::int32_t, xsimd::sse4_1>;
-  using B = xsimd::batch_bool<float, xsimd::sse4_1>;
-  static constexpr bool kHasFma = false;
-  static constexpr bool kHasPermute = false;
-  struct LaneIndex {
-    I index;
-  };
+}  // namespace
+}  // namespace reproject::detail
 
-  static I bits_of(const F& v) { return _mm_castps_si128(v); }
-  static F float_bits(const I& v) { return _mm_castsi128_ps(v); }
-  static F floor(const F& x) { return _mm_round_ps(x, _MM_FROUND_FLOOR); }
-  static F min(const F& a, const F& b) { return _mm_min_ps(a, b); }
-  static F max(const F& a, const F& b) { return _mm_max_ps(a, b); }
-  static I round_to_int(const F& x) { return _mm_cvtps_epi32(x); }
-  static F gather(const float* base, const I& index) {  // four loads (memcpy: any byte address)
-    alignas(16) std::int32_t at[4];
-    alignas(16) float value[4];
-    index.store_aligned(at);
-    for (int i = 0; i < 4; ++i) std::memcpy(&value[i], base + at[i], sizeof(float));
-    return F::load_aligned(value);
-  }
-  template <bool Max>
-  static std::int32_t lane_extreme_key(__m128i k) {
-    auto op = [](__m128i x, __m128i y) { return Max ? _mm_max_epi32(x, y) : _mm_min_epi32(x, y); };
-    k = op(k, _mm_shuffle_epi32(k, _MM_SHUFFLE(1, 0, 3, 2)));
-    k = op(k, _mm_shuffle_epi32(k, _MM_SHUFFLE(2, 3, 0, 1)));
-    return _mm_cvtsi128_si32(k);
-  }
-  template <int Byte>
-  static I byte_lanes(const I& w) {
-    if constexpr (Byte == 3) return _mm_srli_epi32(w, 24);
-    constexpr char z = -128;  // a shuffle index with its top bit set writes zero
-    return _mm_shuffle_epi8(w, _mm_setr_epi8(Byte, z, z, z, Byte + 4, z, z, z, Byte + 8, z, z, z, Byte + 12, z, z, z));
-  }
-  static void store_first_lanes(const F& value, float* out, int count) {  // read, merge, write
-    const I lanes = _mm_setr_epi32(0, 1, 2, 3);
-    const __m128 write = _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_set1_epi32(count), lanes));
-    _mm_storeu_ps(out, _mm_blendv_ps(_mm_loadu_ps(out), value, write));
-  }
-  static void store_bytes(const F& value, std::uint8_t* out) {
-    const __m128i words = _mm_cvttps_epi32(value);
-    const __m128i halves = _mm_packus_epi32(words, words);
-    const std::uint32_t four = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_packus_epi16(halves, halves)));
-    std::memcpy(out, &four, 4);
-  }
-  static I load_u16(const std::uint8_t* p) { return _mm_cvtepu16_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))); }
-  static void store_u16(const I& codes, const B& write, bool masked, std::uint8_t* out) {
-    __m128i packed = _mm_packus_epi32(codes, codes);
-    if (masked) {
-      const __m128i m = _mm_castps_si128(static_cast<__m128>(write));
-      packed = _mm_blendv_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(out)), packed, _mm_packs_epi32(m, m));
-    }
-    _mm_storel_epi64(reinterpret_cast<__m128i*>(out), packed);
-  }
-};
+// One block per instruction set, each in a file of its own; a block exists only where this
+// translation unit's flags define its macros (the block files check them).
+#include "kernels/simd_x86_sse.hpp"
+#include "kernels/simd_x86_avx2.hpp"
+#include "kernels/simd_x86_avx512.hpp"
 
-#if defined(__AVX2__) && REPROJECT_FMA3
-// ---- AVX2 + FMA: 8 lanes; the permute reaches one register, so two-register permutes blend ----
-template <>
-struct X86Set<xsimd::fma3<xsimd::avx2>> {
-  using F = xsimd::batch<float, xsimd::fma3<xsimd::avx2>>;
-  using I = xsimd::batch<std::int32_t, xsimd::fma3<xsimd::avx2>>;
-  using B = xsimd::batch_bool<float, xsimd::fma3<xsimd::avx2>>;
-  static constexpr bool kHasFma = true;
-  static constexpr bool kHasPermute = true;
-  struct LaneIndex {
-    I index;
-    __m256 from_high;  // two registers: all ones where index >= 8
-  };
-
-  static F fmadd(const F& a, const F& b, const F& c) { return _mm256_fmadd_ps(a, b, c); }
-  static I bits_of(const F& v) { return _mm256_castps_si256(v); }
-  static F float_bits(const I& v) { return _mm256_castsi256_ps(v); }
-  static F floor(const F& x) { return _mm256_round_ps(x, _MM_FROUND_FLOOR); }
-  static F min(const F& a, const F& b) { return _mm256_min_ps(a, b); }
-  static F max(const F& a, const F& b) { return _mm256_max_ps(a, b); }
-  static I round_to_int(const F& x) { return _mm256_cvtps_epi32(x); }
-  static F gather(const float* base, const I& index) { return _mm256_i32gather_ps(base, index, 4); }
-  template <bool Max>
-  static std::int32_t lane_extreme_key(__m256i k) {
-    auto op = [](__m128i x, __m128i y) { return Max ? _mm_max_epi32(x, y) : _mm_min_epi32(x, y); };
-    return X86Set<xsimd::sse4_1>::lane_extreme_key<Max>(op(_mm256_castsi256_si128(k), _mm256_extracti128_si256(k, 1)));
-  }
-  template <int Byte>
-  static I byte_lanes(const I& w) {
-    if constexpr (Byte == 3) return _mm256_srli_epi32(w, 24);
-    constexpr char z = -128;
-    const __m128i pick = _mm_setr_epi8(Byte, z, z, z, Byte + 4, z, z, z, Byte + 8, z, z, z, Byte + 12, z, z, z);
-    return _mm256_shuffle_epi8(w, _mm256_broadcastsi128_si256(pick));
-  }
-  static float first_lane(const F& v) { return _mm256_cvtss_f32(v); }
-  static void index_for_two_registers(LaneIndex& lanes, const I& index) {
-    lanes.index = index;
-    lanes.from_high = _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, _mm256_set1_epi32(7)));
-  }
-  static F permute(const F& v, const LaneIndex& lanes) { return _mm256_permutevar8x32_ps(v, lanes.index); }
-  static F permute_two_registers(const F& low, const F& high, const LaneIndex& lanes) {
-    return _mm256_blendv_ps(permute(low, lanes), permute(high, lanes), lanes.from_high);
-  }
-  static void store_first_lanes(const F& value, float* out, int count) {  // a masked store
-    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    _mm256_maskstore_ps(out, _mm256_cmpgt_epi32(_mm256_set1_epi32(count), lanes), value);
-  }
-  static void store_bytes(const F& value, std::uint8_t* out) {
-    const __m256i words = _mm256_cvttps_epi32(value);
-    const __m128i halves = _mm_packus_epi32(_mm256_castsi256_si128(words), _mm256_extracti128_si256(words, 1));
-    _mm_storel_epi64(reinterpret_cast<__m128i*>(out), _mm_packus_epi16(halves, halves));
-  }
-  static I load_u16(const std::uint8_t* p) { return _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))); }
-  static void store_u16(const I& codes, const B& write, bool masked, std::uint8_t* out) {
-    const __m256i c = codes;
-    __m128i packed = _mm_packus_epi32(_mm256_castsi256_si128(c), _mm256_extracti128_si256(c, 1));
-    if (masked) {
-      const __m256i m = _mm256_castps_si256(static_cast<__m256>(write));
-      const __m128i keep = _mm_packs_epi32(_mm256_castsi256_si128(m), _mm256_extracti128_si256(m, 1));
-      packed = _mm_blendv_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(out)), packed, keep);
-    }
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packed);
-  }
-};
-#endif
-
-#if defined(__AVX512F__) && defined(__AVX512BW__)
-// ---- AVX-512 (F, CD, DQ, BW): 16 lanes, masked stores, two-register permutes in one instruction ----
-template <>
-struct X86Set<xsimd::avx512bw> {
-  using F = xsimd::batch<float, xsimd::avx512bw>;
-  using I = xsimd::batch<std::int32_t, xsimd::avx512bw>;
-  using B = xsimd::batch_bool<float, xsimd::avx512bw>;
-  static constexpr bool kHasFma = true;
-  static constexpr bool kHasPermute = true;
-  struct LaneIndex {
-    I index;
-  };
-
-  // Named, not xsimd::fma: xsimd 8.1 has no fma kernel for avx512f and falls back to x * y + z.
-  static F fmadd(const F& a, const F& b, const F& c) { return _mm512_fmadd_ps(a, b, c); }
-  static I bits_of(const F& v) { return _mm512_castps_si512(v); }
-  static F float_bits(const I& v) { return _mm512_castsi512_ps(v); }
-  static F floor(const F& x) { return _mm512_roundscale_ps(x, _MM_FROUND_TO_NEG_INF); }
-  static F min(const F& a, const F& b) { return _mm512_min_ps(a, b); }
-  static F max(const F& a, const F& b) { return _mm512_max_ps(a, b); }
-  static I round_to_int(const F& x) { return _mm512_cvtps_epi32(x); }
-  static F gather(const float* base, const I& index) { return _mm512_i32gather_ps(index, base, 4); }
-  template <bool Max>
-  static std::int32_t lane_extreme_key(__m512i k) {
-    return Max ? _mm512_reduce_max_epi32(k) : _mm512_reduce_min_epi32(k);
-  }
-  template <int Byte>
-  static I byte_lanes(const I& w) {
-    if constexpr (Byte == 3) return _mm512_srli_epi32(w, 24);
-    constexpr char z = -128;
-    const __m128i pick = _mm_setr_epi8(Byte, z, z, z, Byte + 4, z, z, z, Byte + 8, z, z, z, Byte + 12, z, z, z);
-    return _mm512_shuffle_epi8(w, _mm512_broadcast_i32x4(pick));
-  }
-  static float first_lane(const F& v) { return _mm512_cvtss_f32(v); }
-  static void index_for_two_registers(LaneIndex& lanes, const I& index) { lanes.index = index; }
-  static F permute(const F& v, const LaneIndex& lanes) { return _mm512_permutexvar_ps(lanes.index, v); }
-  static F permute_two_registers(const F& low, const F& high, const LaneIndex& lanes) {
-    return _mm512_permutex2var_ps(low, lanes.index, high);
-  }
-  static void store_first_lanes(const F& value, float* out, int count) {
-    _mm512_mask_storeu_ps(out, static_cast<__mmask16>((1u << count) - 1u), value);
-  }
-  static void store_bytes(const F& value, std::uint8_t* out) {
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm512_cvtusepi32_epi8(_mm512_cvttps_epi32(value)));
-  }
-  static I load_u16(const std::uint8_t* p) { return _mm512_cvtepu16_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p))); }
-  static void store_u16(const I& codes, const B& write, bool masked, std::uint8_t* out) {
-    _mm512_mask_cvtepi32_storeu_epi16(out, masked ? static_cast<__mmask16>(write) : static_cast<__mmask16>(0xffff), codes);
-  }
-};
-#endif
+namespace reproject::detail {
+namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // ---- The primitives (contracts: kernels/arch_layer.hpp) ----
 
@@ -278,6 +112,13 @@ xsimd::batch<std::int32_t, Arch> byte_lanes(const xsimd::batch<std::int32_t, Arc
   } else {
     return X86Set<Arch>::template byte_lanes<Byte>(w);
   }
+}
+
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> blend_rgba8_q15(const xsimd::batch<std::int32_t, Arch>& c0,
+                                                 const xsimd::batch<std::int32_t, Arch>& c1,
+                                                 const xsimd::batch<std::int32_t, Arch>& weight) {
+  return X86Set<Arch>::blend_rgba8_q15(c0, c1, weight);
 }
 
 template <class Arch>

@@ -78,6 +78,15 @@ else()
 endif()
 list(LENGTH halves half_count)
 
+# The rgba8 blend in fixed point (kernels/arch_layer.hpp blend_rgba8_q15): a multiply-high with
+# rounding on 16-bit lanes, pmulhrsw on x86 (every set: SSSE3 has it), sqrdmulh on AArch64.
+if(EXPECT STREQUAL "neon")
+  string(REGEX MATCHALL "[\t ]sqrdmulh[\t ]+v[0-9]+\\.8h[^\n]*" mulhrs "${listing}")
+else()
+  string(REGEX MATCHALL "[\t ]v?pmulhrsw[\t ][^\n]*" mulhrs "${listing}")
+endif()
+list(LENGTH mulhrs mulhrs_count)
+
 # Table look-ups (AArch64): the column fetch's permutes.
 string(REGEX MATCHALL "[\t ]tb[lx][\t ][^\n]*" lookups "${listing}")
 list(LENGTH lookups lookup_count)
@@ -105,6 +114,9 @@ if(generic_count GREATER 0)
   list(REMOVE_DUPLICATES generic_calls)
   string(REPLACE ";" "\n  " shown "${generic_calls}")
   message(FATAL_ERROR "${name}: ${generic_count} calls into xsimd's generic fallbacks:\n  ${shown}")
+endif()
+if(NOT EXPECT STREQUAL "xmm" AND mulhrs_count EQUAL 0)
+  message(FATAL_ERROR "${name}: no pmulhrsw/sqrdmulh: rgba8 is not blended in fixed point")
 endif()
 if(tls_count GREATER 0)
   list(GET tls_accesses 0 first)

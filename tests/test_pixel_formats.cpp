@@ -14,6 +14,7 @@
 #include <random>
 #include <vector>
 
+#include "kernels/codes.hpp"
 #include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
 #include "src/reproject_internal.hpp"
@@ -206,6 +207,32 @@ double srgb_encode_double(double l) { return l <= 0.0031308 ? l * 12.92 : 1.055 
 int srgb_byte_double(double l) {
   l = std::min(std::max(l, 0.0), 1.0);
   return static_cast<int>(std::floor(255.0 * srgb_encode_double(l) + 0.5));
+}
+
+// rgba8's fixed-point blend (docs/BEHAVIOUR.md "Pixel formats") against the exact blend of the
+// byte values, c0 + frac (c1 - c0), for every difference c1 - c0 and every weight (the result
+// depends on c0 only through the sum, and on frac only through its weight; the exact blend is
+// linear in frac, so the ends of each weight's range of frac bound it): within one code.
+TEST(PixelFormats, Rgba8FixedPointWithinOneCodeOfTheExactBlend) {
+  double worst = 0.0;
+  long checked = 0;
+  for (int d = -255; d <= 255; ++d) {
+    for (std::int32_t w = 0; w < 32768; ++w) {
+      const std::uint8_t c0 = static_cast<std::uint8_t>(d < 0 ? 255 : 0);
+      const std::uint8_t c1 = static_cast<std::uint8_t>(c0 + d);
+      const int got = detail::blend_u8_q15(c0, c1, w) - c0;
+      const double low = static_cast<double>(d) * w / 32768.0, high = static_cast<double>(d) * (w + 1) / 32768.0;
+      worst = std::max({worst, std::fabs(got - low), std::fabs(got - high)});
+      ++checked;
+      // The weight of frac is floor(frac 2^15): both ends of its range map to it.
+      ASSERT_EQ(detail::weight_q15(static_cast<float>(w) / 32768.0f), w);
+      ASSERT_EQ(detail::weight_q15(std::nextafter(static_cast<float>(w + 1) / 32768.0f, 0.0f)), w);
+    }
+  }
+  std::printf("rgba8 fixed point: %ld (difference, weight) pairs, at most %.6f codes from the exact blend\n", checked,
+              worst);
+  EXPECT_LT(worst, 1.0);
+  EXPECT_LE(worst, 0.5 + 255.0 / 32768.0 + 1e-12);  // rounding, plus the weight's truncation
 }
 
 TEST(PixelFormats, SrgbAgainstDoublePrecision) {

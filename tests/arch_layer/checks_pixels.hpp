@@ -97,6 +97,60 @@ Outcome check_lerp4() {
   return out;
 }
 
+// Every pair of bytes (c0, c1) in every channel of every lane, at weights from a dense sweep of
+// blend fractions (their weight_q15), each lane with its own: bit for bit the scalar rule
+// (kernels/codes.hpp blend_u8_q15), and within one code of the exact blend c0 + frac (c1 - c0).
+template <class Arch>
+Outcome check_blend_rgba8_q15() {
+  Outcome out;
+  using V = Vec<Arch>;
+  constexpr int L = V::L;
+  std::vector<float> fractions = {0.0f, 0x1p-24f, 0x1p-16f, 0x1p-15f, 0.25f, 0.5f, 0.5f - 0x1p-24f, 0.75f, 1.0f - 0x1p-24f,
+                                  1.0f - 0x1p-15f, 1.0f - 0x1p-16f};
+  for (int k = 1; k < 64; ++k) fractions.push_back(static_cast<float>(k * 1021 % 4096) / 4096.0f + 0x1p-14f * (k % 3));
+  double worst = 0.0;
+  std::int32_t words0[L], words1[L], weights[L];
+  float frac[L];
+  for (int shift = 0; shift < 4; ++shift) {  // each pair through every channel
+    for (std::uint32_t first = 0; first < 65536; first += 4 * L) {
+      for (std::size_t f = 0; f < fractions.size(); ++f) {
+        for (int i = 0; i < L; ++i) {
+          std::uint32_t a = 0, b = 0;
+          for (int c = 0; c < 4; ++c) {
+            const std::uint32_t pair = (first + static_cast<std::uint32_t>(4 * i + (c + shift) % 4)) % 65536;
+            a |= (pair & 0xffu) << (8 * c);
+            b |= (pair >> 8) << (8 * c);
+          }
+          std::memcpy(&words0[i], &a, 4);
+          std::memcpy(&words1[i], &b, 4);
+          frac[i] = fractions[(f + static_cast<std::size_t>(i)) % fractions.size()];
+          weights[i] = detail::weight_q15(frac[i]);
+        }
+        std::int32_t got[L];
+        V::ints_out(detail::blend_rgba8_q15<Arch>(V::ints(words0), V::ints(words1), V::ints(weights)), got);
+        for (int i = 0; i < L; ++i) {
+          for (int c = 0; c < 4; ++c) {
+            const auto c0 = static_cast<std::uint8_t>(static_cast<std::uint32_t>(words0[i]) >> (8 * c));
+            const auto c1 = static_cast<std::uint8_t>(static_cast<std::uint32_t>(words1[i]) >> (8 * c));
+            const auto value = static_cast<std::uint8_t>(static_cast<std::uint32_t>(got[i]) >> (8 * c));
+            const std::uint8_t want = detail::blend_u8_q15(c0, c1, weights[i]);
+            const double exact = c0 + static_cast<double>(frac[i]) * (c1 - c0);
+            worst = std::max(worst, std::fabs(value - exact));
+            ++out.lanes;
+            if (value != want || !(std::fabs(value - exact) < 1.0)) {
+              out.fail(lane_text(i) + "blend_rgba8_q15 channel " + std::to_string(c) + " of " + std::to_string(c0) +
+                       " and " + std::to_string(c1) + " at weight " + std::to_string(weights[i]) + " = " +
+                       std::to_string(value) + ", contract " + std::to_string(want) + " (exact " + std::to_string(exact) + ")");
+            }
+          }
+        }
+      }
+    }
+  }
+  if (!(worst < 1.0)) out.fail("the largest distance from the exact blend is " + std::to_string(worst) + " codes");
+  return out;
+}
+
 template <class Arch>
 Outcome check_load_half4() {
   Outcome out;
