@@ -27,15 +27,20 @@ prefix="${WINEPREFIX:-$HOME/.wine}"
 mkdir -p "$prefix"
 export WINEPREFIX="$prefix"
 (
-  flock 9
+  flock 9 || exit
   # A server of our own when none runs (wineserver exits at once, status 2, if one does). Wine's
   # services (services.exe, winedevice.exe, ...) then start here, with their output going
   # nowhere: started by the program below, they would hold its output open for as long as the
   # server lives, and a test runner waits for that.
   # (Neither may inherit the lock's descriptor: it would stay locked as long as they live.)
   if "$server" -p30 > /dev/null 2>&1 < /dev/null 9>&- || [ ! -f "$prefix/.wine-run-ready" ]; then
-    "$wine" wineboot --init > /dev/null 2>&1 < /dev/null 9>&-
+    "$wine" wineboot --init > /dev/null 2>&1 < /dev/null 9>&- || exit
     touch "$prefix/.wine-run-ready"
   fi
-) 9> "$prefix.lock"
+) 9> "$prefix.lock" || {
+  # Said, not silent: a test that fails here has printed nothing of its own.
+  status=$?
+  echo "wine-run.sh: Wine could not be started in $prefix (status $status)" >&2
+  exit "$status"
+}
 exec "$wine" "$@"
