@@ -251,7 +251,11 @@ struct PackedBuffer {
   PackedBuffer(int width, int height, int pixel_bytes) {
     stride = (static_cast<std::ptrdiff_t>(width) * pixel_bytes + 63) / 64 * 64;
     const std::size_t size = static_cast<std::size_t>(stride) * height;
+#if defined(_WIN32)
+    bytes = {static_cast<std::uint8_t*>(_aligned_malloc(size, 64)), _aligned_free};  // no aligned_alloc there
+#else
     bytes.reset(static_cast<std::uint8_t*>(std::aligned_alloc(64, size)));
+#endif
     if (!bytes) {
       std::fprintf(stderr, "reproject_bench: cannot allocate %dx%d packed pixels\n", width, height);
       std::exit(1);

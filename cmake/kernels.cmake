@@ -40,11 +40,20 @@ if(REPROJECT_SIMD_SETS)
 endif()
 target_sources(reproject PRIVATE ${PROJECT_SOURCE_DIR}/kernels/cpu_${REPROJECT_CPU_FAMILY}.cpp)
 
-# Flags per set (GCC and Clang; MSVC would need /arch:AVX2 and /arch:AVX512 per file, and has no
-# SSE4.1-only switch). NEON needs none: every AArch64 processor has Advanced SIMD.
-set(REPROJECT_FLAGS_sse -msse4.1)
-set(REPROJECT_FLAGS_avx2 -mavx2 -mfma -mf16c)
-set(REPROJECT_FLAGS_avx512 -mavx512f -mavx512cd -mavx512dq -mavx512bw -mavx2 -mfma -mf16c)
+# Flags per set. NEON needs none: every AArch64 processor has Advanced SIMD.
+if(MSVC)
+  # MSVC (and clang-cl): /arch:AVX2 brings FMA3 and F16C, /arch:AVX512 F, CD, DQ, BW and VL. There
+  # is no SSE4.1 switch: MSVC emits any SSE intrinsic without one, and xsimd 8 turns its SSE4.1 code
+  # on for every x64 MSVC build (xsimd/config/xsimd_config.hpp), so the sse table is built with the
+  # baseline flags, and only its own code uses SSE4.1, as with -msse4.1.
+  set(REPROJECT_FLAGS_sse "")
+  set(REPROJECT_FLAGS_avx2 /arch:AVX2)
+  set(REPROJECT_FLAGS_avx512 /arch:AVX512)
+else()
+  set(REPROJECT_FLAGS_sse -msse4.1)
+  set(REPROJECT_FLAGS_avx2 -mavx2 -mfma -mf16c)
+  set(REPROJECT_FLAGS_avx512 -mavx512f -mavx512cd -mavx512dq -mavx512bw -mavx2 -mfma -mf16c)
+endif()
 set(REPROJECT_FLAGS_neon "")
 get_target_property(REPROJECT_XSIMD_INCLUDE xsimd INTERFACE_INCLUDE_DIRECTORIES)
 foreach(set IN LISTS REPROJECT_SIMD_SETS)
@@ -53,9 +62,7 @@ foreach(set IN LISTS REPROJECT_SIMD_SETS)
   target_include_directories(reproject_simd_${set} SYSTEM PRIVATE ${REPROJECT_XSIMD_INCLUDE})
   target_link_libraries(reproject_simd_${set} PRIVATE reproject_flags)
   set_target_properties(reproject_simd_${set} PROPERTIES POSITION_INDEPENDENT_CODE ON)
-  if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
-    target_compile_options(reproject_simd_${set} PRIVATE ${REPROJECT_FLAGS_${set}})
-  endif()
+  target_compile_options(reproject_simd_${set} PRIVATE ${REPROJECT_FLAGS_${set}})
   target_sources(reproject PRIVATE $<TARGET_OBJECTS:reproject_simd_${set}>)
 endforeach()
 # The sets of the other families (or all, without SIMD): tables that are null.
@@ -82,10 +89,14 @@ endif()
 # (On AArch64 the baseline already has fmadd and frintm: one copy serves.)
 set(REPROJECT_SCALAR_SOURCES kernels/decode.cpp kernels/resolve.cpp kernels/scanline.cpp kernels/march16.cpp
     kernels/single.cpp kernels/secant.cpp kernels/exact.cpp kernels/scalar_table.cpp)
-if(REPROJECT_CPU_FAMILY STREQUAL "x86" AND CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+if(REPROJECT_CPU_FAMILY STREQUAL "x86")
   add_library(reproject_scalar_host OBJECT ${REPROJECT_SCALAR_SOURCES})
   target_compile_definitions(reproject_scalar_host PRIVATE REPROJECT_SCALAR_COPY=host)
-  target_compile_options(reproject_scalar_host PRIVATE -mavx2 -mfma)
+  if(MSVC)
+    target_compile_options(reproject_scalar_host PRIVATE /arch:AVX2)  # AVX2 brings FMA3 in MSVC
+  else()
+    target_compile_options(reproject_scalar_host PRIVATE -mavx2 -mfma)
+  endif()
   target_include_directories(reproject_scalar_host PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR})
   target_link_libraries(reproject_scalar_host PRIVATE reproject_flags)
   set_target_properties(reproject_scalar_host PROPERTIES POSITION_INDEPENDENT_CODE ON)

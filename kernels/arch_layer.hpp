@@ -26,8 +26,21 @@
 #endif
 
 // Forces inlining where the compiler's heuristics keep a per-vector helper out of line in the
-// row loops (GCC and Clang; MSVC would spell it __forceinline).
+// row loops; keeps a function out of line; asks for the cache line at an address. MSVC (not
+// clang-cl, which takes GCC's spellings) has its own words for the three.
+#if defined(_MSC_VER) && !defined(__clang__)
+#define REPROJECT_ALWAYS_INLINE __forceinline
+#define REPROJECT_NOINLINE __declspec(noinline)
+#if defined(_M_ARM64)
+#define REPROJECT_PREFETCH(address) __prefetch(address)
+#else
+#define REPROJECT_PREFETCH(address) _mm_prefetch(reinterpret_cast<const char*>(address), _MM_HINT_T0)
+#endif
+#else
 #define REPROJECT_ALWAYS_INLINE __attribute__((always_inline))
+#define REPROJECT_NOINLINE __attribute__((noinline))
+#define REPROJECT_PREFETCH(address) __builtin_prefetch(address)
+#endif
 
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)

@@ -2,6 +2,7 @@
 #include "kernels/color_formats.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -43,7 +44,7 @@ SrgbTables build_srgb_tables() {
     // The bucket must not hold a second threshold (kernels/color_formats.hpp); the shift is
     // chosen so that it never does, and this keeps it so.
     const float next_bucket = float_of_bits((kSrgbFirstBucket + static_cast<std::uint32_t>(b) + 1) << kSrgbBucketShift);
-    if (byte + 2 <= 256 && threshold[byte + 2] < next_bucket && b + 1 < kSrgbBuckets) __builtin_trap();
+    if (byte + 2 <= 256 && threshold[byte + 2] < next_bucket && b + 1 < kSrgbBuckets) std::abort();
   }
   return t;
 }

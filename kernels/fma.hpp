@@ -10,6 +10,15 @@
 #include <cstring>
 #include <type_traits>
 
+// Whether this translation unit may use the FMA instruction (FMA3). GCC and Clang define __FMA__
+// for it; MSVC defines no such macro, and its /arch:AVX2 and /arch:AVX512 bring FMA3
+// (cmake/kernels.cmake).
+#if defined(__FMA__) || (defined(_MSC_VER) && !defined(__clang__) && defined(__AVX2__))
+#define REPROJECT_FMA3 1
+#else
+#define REPROJECT_FMA3 0
+#endif
+
 namespace reproject::detail {
 
 struct Fused {};
@@ -45,7 +54,7 @@ inline float fma_in_software(float a, float b, float c) noexcept {
 // form elsewhere, where std::fma would call the C library, which is slow and, on some platforms
 // (MinGW-w64's), does not round once.
 inline float fused_madd(float a, float b, float c) noexcept {
-#if defined(__FMA__) || defined(__aarch64__) || defined(_M_ARM64)
+#if REPROJECT_FMA3 || defined(__aarch64__) || defined(_M_ARM64)
   return std::fma(a, b, c);
 #else
   return fma_in_software(a, b, c);

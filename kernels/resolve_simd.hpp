@@ -125,10 +125,10 @@ template <ColorPath Path, class Arch>
 REPROJECT_ALWAYS_INLINE inline void prefetch_next_row(const RowContext<Arch>& row, int t) {
   constexpr int L = Lanes<Arch>::size;
   constexpr int kBytes = L * pixel_bytes_of(Path);
-  __builtin_prefetch(row.next_depth + static_cast<std::ptrdiff_t>(t) * row.depth_bytes);
+  REPROJECT_PREFETCH(row.next_depth + static_cast<std::ptrdiff_t>(t) * row.depth_bytes);
   if constexpr (Path != ColorPath::planes) {  // one plane of pixels
     const std::uint8_t* next = row.next_source + static_cast<std::ptrdiff_t>(t) * pixel_bytes_of(Path);
-    for (int line = 0; line < kBytes; line += 64) __builtin_prefetch(next + line);
+    for (int line = 0; line < kBytes; line += 64) REPROJECT_PREFETCH(next + line);
   }
 }
 
@@ -170,7 +170,7 @@ REPROJECT_ALWAYS_INLINE inline void write_color(const RowContext<Arch>& row, con
     for (int c = 0; c < row.planes; ++c) {
       // A kilobyte ahead in each colour plane: the hardware prefetcher alone tracks this many
       // streams less well (docs/PERFORMANCE.md, "Measured design choices").
-      __builtin_prefetch(row.source[c] + 4 * t + 1024);
+      REPROJECT_PREFETCH(row.source[c] + 4 * t + 1024);
       F c0, c1;
       fetch(reinterpret_cast<const float*>(row.source[c]), c0, c1);
       store_lanes<Arch>(reinterpret_cast<float*>(row.target[c] + out_byte), vmadd<Fma>(frac, c1 - c0, c0), write, black,
@@ -219,7 +219,7 @@ REPROJECT_ALWAYS_INLINE inline void write_depth(const RowContext<Arch>& row, con
 // Target pixels [t, t + L) whatever their lanes hold (scalar twin: resolve_pixels). `tally`
 // hears the fetch mode of every vector (kernels/simd.hpp, NoFetchTally).
 template <class Arch, class Fma, class Tally>
-__attribute__((noinline)) void resolve_vector(const RowContext<Arch>& row, int t, Tally& tally) {
+REPROJECT_NOINLINE void resolve_vector(const RowContext<Arch>& row, int t, Tally& tally) {
   REPROJECT_LANE_TYPES(Arch);
   const F zero(0.0f), one(1.0f);
   const F x = F::load_unaligned(row.source_x + t);
@@ -307,7 +307,7 @@ struct WriteHits {
 // (Out of line, one call per row: so that each path's loop is a function of its own in profiles
 // and instruction counts, bench/instruction_count.py, whatever the compiler would have inlined.)
 template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally>
-__attribute__((noinline)) void resolve_hits(const RowContext<Arch>& whole_row, int whole, Tally& tally) {
+REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whole, Tally& tally) {
   REPROJECT_LANE_TYPES(Arch);
   // A copy the compiler can keep in registers: the stores below go through byte pointers, which
   // may alias anything, so fields read through a reference would be reloaded after each of them.

@@ -11,6 +11,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#if defined(_MSC_VER) && !defined(__clang__)
+#include <intrin.h>  // _BitScanReverse
+#endif
 
 #include "kernels/search.hpp"
 #include "kernels/secant.hpp"
@@ -59,6 +62,17 @@ void build_block_table(const Frame& f, RowScratch& scratch) {
 
 namespace {
 
+// floor(log2(count)), count >= 1. MSVC has no __builtin_clz.
+inline int floor_log2(unsigned count) {
+#if defined(_MSC_VER) && !defined(__clang__)
+  unsigned long top;
+  _BitScanReverse(&top, count);
+  return static_cast<int>(top);
+#else
+  return 31 - __builtin_clz(count);
+#endif
+}
+
 // Keys [lowest, highest] of the surface over source columns the tile's rays can touch.
 struct KeyBounds {
   float lowest;
@@ -84,7 +98,7 @@ KeyBounds reachable_keys(const Frame& f, const RowScratch& scratch, int t_begin,
     const int blocks = (f.source_width + kSecantBlock - 1) / kSecantBlock;
     const int first = column_lo / kSecantBlock;
     const int last_block = column_hi / kSecantBlock;
-    const int level = 31 - __builtin_clz(static_cast<unsigned>(last_block - first + 1));  // floor(log2(count))
+    const int level = floor_log2(static_cast<unsigned>(last_block - first + 1));
     const std::size_t row = static_cast<std::size_t>(level) * static_cast<std::size_t>(blocks);
     for (const int k : {first, last_block + 1 - (1 << level)}) {
       include(scratch.block_min[row + k]);

@@ -8,9 +8,9 @@
 // translation unit's flags define its macro (__AVX512F__, __AVX2__; kernels/arch_<set>.cpp is
 // compiled with its set's flags alone), and the SSE4.1 block is the baseline every x86 TU has.
 //
-// GCC and Clang only for now: MSVC has no __AVX2__-style macros per translation unit (it defines
-// __AVX2__ only with /arch:AVX2 for the whole build) and no __attribute__; a Windows build would
-// set these from CMake per file and spell REPROJECT_ALWAYS_INLINE as __forceinline.
+// MSVC: cmake/kernels.cmake gives each set's files /arch:AVX2 or /arch:AVX512, which define
+// __AVX2__ and __AVX512F__/__AVX512BW__ there; FMA3 comes with them (REPROJECT_FMA3,
+// kernels/fma.hpp) and REPROJECT_ALWAYS_INLINE is __forceinline (kernels/arch_layer.hpp).
 #pragma once
 
 #include <immintrin.h>
@@ -196,7 +196,7 @@ inline void store_float4(std::uint8_t* p, Pixel4 v) { _mm_storeu_ps(reinterpret_
 template <class Fma>
 Pixel4 lerp4(Pixel4 frac, Pixel4 c0, Pixel4 c1) {
   if constexpr (std::is_same<Fma, Fused>::value) {
-#if defined(__FMA__)
+#if REPROJECT_FMA3
     return _mm_fmadd_ps(frac, _mm_sub_ps(c1, c0), c0);
 #else
     static_assert(!std::is_same<Fma, Fma>::value, "the fused policy needs an FMA instruction set");

@@ -8,10 +8,12 @@
 #include <cstring>
 #include <xsimd/xsimd.hpp>
 
+#include "kernels/fma.hpp"  // REPROJECT_FMA3: MSVC defines no __FMA__
+
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-#if defined(__AVX2__) && defined(__FMA__)
+#if defined(__AVX2__) && REPROJECT_FMA3
 // ---- AVX2 + FMA: 8 lanes; the permute reaches one register, so two-register permutes blend ----
 template <>
 struct X86Set<xsimd::fma3<xsimd::avx2>> {

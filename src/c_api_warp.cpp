@@ -18,8 +18,12 @@ thread_local char last_message[192] = "ok";
 
 reproject_status report(const Status& status) noexcept {
   if (!status.ok()) {
-    std::strncpy(last_message, status.message(), sizeof(last_message) - 1);
-    last_message[sizeof(last_message) - 1] = '\0';
+    // Status keeps at most 191 characters: the copy never truncates.
+    const char* message = status.message();
+    std::size_t length = 0;
+    while (length + 1 < sizeof(last_message) && message[length] != '\0') ++length;
+    std::memcpy(last_message, message, length);
+    last_message[length] = '\0';
   }
   return static_cast<reproject_status>(status.code());
 }

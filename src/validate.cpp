@@ -102,8 +102,8 @@ Status check_depth_buffer(const DepthBufferT<Byte>& depth, int width, int height
     return Status(status.code(), "%s (%s)", status.message(), to_string(depth.format));
   if (depth.format == DepthFormat::float32 &&
       (reinterpret_cast<std::uintptr_t>(depth.data) % alignof(float) != 0 || depth.stride % 4 != 0))
-    return Status(StatusCode::invalid_stride, "%s: float32 depth rows must start on 4-byte boundaries (data %p, stride %td bytes)",
-                  name, static_cast<const void*>(depth.data), depth.stride);
+    return Status(StatusCode::invalid_stride, "%s: float32 depth rows must start on 4-byte boundaries (data 0x%llx, stride %td bytes)",
+                  name, static_cast<unsigned long long>(reinterpret_cast<std::uintptr_t>(depth.data)), depth.stride);
   if (std::is_const<Byte>::value && depth.format == DepthFormat::rgba8_packed_linear &&
       !(std::isfinite(depth.linear_near) && std::isfinite(depth.linear_far) && depth.linear_far != depth.linear_near &&
         std::isfinite(depth.linear_far - depth.linear_near)))

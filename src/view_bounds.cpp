@@ -18,8 +18,8 @@ Status check_view_bytes(const void* data, int width, int height, std::ptrdiff_t 
   // Elements are read through typed pointers (a float plane's floats): a base between two elements
   // is no such pointer (the C interface can be handed one; UBSan reports the load).
   if (reinterpret_cast<std::uintptr_t>(data) % static_cast<std::uintptr_t>(element_bytes) != 0)
-    return Status(StatusCode::invalid_stride, "%s: data %p is not aligned to its %d-byte elements", name, data,
-                  element_bytes);
+    return Status(StatusCode::invalid_stride, "%s: data 0x%llx is not aligned to its %d-byte elements", name,
+                  static_cast<unsigned long long>(reinterpret_cast<std::uintptr_t>(data)), element_bytes);
 
   // The kernels address row y as data + y * stride in ptrdiff_t (bytes for the engine formats,
   // and the float depth plane's stride is taken in bytes too), so the stride in bytes and the
@@ -38,8 +38,8 @@ Status check_view_bytes(const void* data, int width, int height, std::ptrdiff_t 
   const std::uint64_t first = static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(data));
   // The last byte's address must be representable and the end (one past it) too.
   if (data != nullptr && extent > static_cast<std::uint64_t>(UINTPTR_MAX) - first)
-    return Status(StatusCode::invalid_size, "%s: the view's %llu bytes from %p run past the end of the address space",
-                  name, static_cast<unsigned long long>(extent), data);
+    return Status(StatusCode::invalid_size, "%s: the view's %llu bytes from 0x%llx run past the end of the address space",
+                  name, static_cast<unsigned long long>(extent), static_cast<unsigned long long>(first));
   if (out != nullptr && data != nullptr) {
     out->first = static_cast<std::uintptr_t>(first);
     out->rows = static_cast<std::uint64_t>(height);

@@ -33,12 +33,21 @@ void* counted_aligned(std::size_t size, std::align_val_t alignment) noexcept {
   if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
   const std::size_t align = std::max(static_cast<std::size_t>(alignment), sizeof(void*));
   const std::size_t rounded = (std::max<std::size_t>(size, 1) + align - 1) / align * align;  // aligned_alloc wants a multiple
+#if defined(_WIN32)
+  return _aligned_malloc(rounded, align);  // Windows' C runtime has no aligned_alloc
+#else
   return std::aligned_alloc(align, rounded);
+#endif
 }
 
 // Out of line: inlined into a delete-expression, a direct free() of what operator new returned
 // draws GCC's -Wmismatched-new-delete, although new and delete here are malloc and free.
 [[gnu::noinline]] void release(void* p) noexcept { std::free(p); }
+#if defined(_WIN32)
+void release_aligned(void* p) noexcept { _aligned_free(p); }  // what _aligned_malloc returned
+#else
+void release_aligned(void* p) noexcept { release(p); }
+#endif
 
 // The throwing forms may not return null: without exceptions (REPROJECT_EXCEPTIONS=OFF) the
 // process ends instead, as the standard library's own operator new does there.
@@ -77,12 +86,12 @@ void operator delete(void* p, std::size_t) noexcept { release(p); }
 void operator delete[](void* p, std::size_t) noexcept { release(p); }
 void operator delete(void* p, const std::nothrow_t&) noexcept { release(p); }
 void operator delete[](void* p, const std::nothrow_t&) noexcept { release(p); }
-void operator delete(void* p, std::align_val_t) noexcept { release(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { release(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { release(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { release(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
+void operator delete(void* p, std::align_val_t) noexcept { release_aligned(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { release_aligned(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { release_aligned(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { release_aligned(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { release_aligned(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { release_aligned(p); }
 
 namespace reproject {
 namespace {

@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -42,11 +43,16 @@
 #include <thread>
 #include <vector>
 
+#if defined(_WIN32)
+#include "support/windows_process.hpp"
+#else
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#endif
 
 #include "imageio/imageio.hpp"
+#include "imageio/os.hpp"
 #include "imageio/stereo_views.hpp"
 #include "reproject/image.hpp"
 #include "support/files.hpp"
@@ -816,10 +822,44 @@ TEST(Exr, WriteErrors) {
 // process writes the same small file over and over (create, write, rename), and is killed at
 // random moments; its handler removes what is tracked, as the tool's does. CI once found a
 // temporary left behind by a signal that came between the file's creation and its tracking.
+#if defined(_WIN32)
+// Windows: the writer is this program again, started with REPROJECT_TEST_WRITE_LOOP naming the
+// file, in a console of its own; the test sends it Ctrl-C, which Windows handles on a thread of
+// the writer's own while its writes go on, and the handler removes what is tracked and exits, as
+// the tool's does when a command does not stop in time (tools/cli/files.cpp). From the clean-up on,
+// creating a temporary fails ("the program is being interrupted"), so a write under way may fail
+// before the handler ends the process: the writer then waits to be ended (exit 0) instead of
+// exiting with its own failure code first.
+std::atomic<bool> g_interrupted{false};
+
+BOOL WINAPI remove_temporaries_and_exit(DWORD) {
+  g_interrupted.store(true);
+  io::remove_temporary_files();
+  ExitProcess(0);
+}
+
+const bool g_writer_child = [] {
+  const char* output = std::getenv("REPROJECT_TEST_WRITE_LOOP");
+  if (output == nullptr) return false;
+  SetConsoleCtrlHandler(remove_temporaries_and_exit, TRUE);
+  Image plane(8, 4, 1);
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 0; x < 8; ++x) plane.plane_data()[y * plane.stride() + x] = static_cast<float>(x + 8 * y);
+  }
+  std::ofstream(std::getenv("REPROJECT_TEST_WRITE_READY")) << "ready";
+  for (;;) {
+    if (io::write_depth(output, plane.plane(0)).ok()) continue;
+    if (g_interrupted.load()) Sleep(INFINITE);  // the handler is ending the process
+    ExitProcess(3);
+  }
+}();
+#else
 extern "C" void remove_temporaries_and_exit(int) {
   io::remove_temporary_files();
   _exit(0);
 }
+
+#endif
 
 TEST(TemporaryFiles, SignalAtAnyMomentOfAWriteLeavesNone) {
   const std::filesystem::path dir = temp_path("signals");
@@ -836,6 +876,30 @@ TEST(TemporaryFiles, SignalAtAnyMomentOfAWriteLeavesNone) {
   std::filesystem::remove(output);
   std::mt19937 random(20261124u);
   int leftovers = 0, writes_done = 0;
+#if defined(_WIN32)
+  (void)spread_us;
+  const std::filesystem::path ready = temp_path("writer-ready");
+  wchar_t self[MAX_PATH];
+  ASSERT_GT(GetModuleFileNameW(nullptr, self, MAX_PATH), 0u);
+  SetEnvironmentVariableW(L"REPROJECT_TEST_WRITE_LOOP", rptest::wide(output).c_str());
+  SetEnvironmentVariableW(L"REPROJECT_TEST_WRITE_READY", ready.wstring().c_str());
+  // Each round starts a process under Wine (a few hundred ms): fewer rounds than on POSIX, each
+  // interrupting at a random moment of up to 50 ms of writes.
+  for (int round = 0; round < 40 && leftovers == 0; ++round) {
+    std::filesystem::remove(ready);
+    PROCESS_INFORMATION child = {};
+    ASSERT_TRUE(rptest::start_process(rptest::quote_argument(self), L"", nullptr, nullptr, true, &child));
+    for (int waited = 0; waited < 20000 && !std::filesystem::exists(ready); waited += 5) Sleep(5);
+    ASSERT_TRUE(std::filesystem::exists(ready)) << "the writer did not start";
+    std::this_thread::sleep_for(std::chrono::microseconds(200 + static_cast<long>(random() % 50000)));
+    ASSERT_TRUE(rptest::send_ctrl_c(child.dwProcessId)) << GetLastError();
+    ASSERT_EQ(WaitForSingleObject(child.hProcess, 20000), WAIT_OBJECT_0) << "the writer did not stop";
+    DWORD code = 1;
+    GetExitCodeProcess(child.hProcess, &code);
+    CloseHandle(child.hThread);
+    CloseHandle(child.hProcess);
+    ASSERT_EQ(code, 0u) << "the writer failed or died";
+#else
   for (int round = 0; round < 150 && leftovers == 0; ++round) {
     int ready[2];
     ASSERT_EQ(::pipe(ready), 0);
@@ -860,6 +924,7 @@ TEST(TemporaryFiles, SignalAtAnyMomentOfAWriteLeavesNone) {
     int status = 0;
     ASSERT_EQ(::waitpid(child, &status, 0), child);
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the writer failed or died: " << status;
+#endif
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
       const std::string name = entry.path().filename().string();
       if (name == "out.pfm") {
@@ -870,9 +935,53 @@ TEST(TemporaryFiles, SignalAtAnyMomentOfAWriteLeavesNone) {
       ADD_FAILURE() << name << " left after the signal of round " << round;
     }
   }
+#if defined(_WIN32)
+  SetEnvironmentVariableW(L"REPROJECT_TEST_WRITE_LOOP", nullptr);
+  SetEnvironmentVariableW(L"REPROJECT_TEST_WRITE_READY", nullptr);
+#endif
   EXPECT_GT(writes_done, 0) << "no write finished before its signal";
   std::error_code ignored;
   std::filesystem::remove_all(dir, ignored);
+}
+
+// ------------------------------------------------------------------------------------------------
+// LargeFiles
+
+// Files of 2 GB and more, sparse (only their headers are written): sizes and offsets are 64-bit on
+// every system (Windows' `long` and its default `struct stat` size are 32-bit).
+TEST(LargeFiles, SizesAndOffsetsPastTwoGigabytes) {
+  TempFile pfm("large.pfm");
+  const std::string header = "PF\n16384 16384\n-1.0\n";  // RGB floats: 3 GiB of pixels
+  const std::uint64_t whole = header.size() + 3ULL * 4 * 16384 * 16384;
+  write_text(pfm.path, header);
+  std::filesystem::resize_file(io::os::to_path(pfm.path), whole);
+  io::ImageInfo info;
+  io::IoStatus status = io::read_image_info(pfm.path, &info);
+  ASSERT_TRUE(status.ok()) << status.message;
+  EXPECT_EQ(info.width, 16384);
+  EXPECT_EQ(info.channels, 3);
+  EXPECT_TRUE(io::check_raw_size(pfm.path, whole, "the buffer").ok());
+  status = io::check_raw_size(pfm.path, whole - (1ULL << 32), "the buffer");
+  EXPECT_EQ(status.error, io::IoError::size_mismatch);
+  EXPECT_TRUE(contains(status.message, "holds " + std::to_string(whole) + " bytes")) << status.message;
+
+  std::FILE* file = io::os::open_file(pfm.path, "rb");
+  ASSERT_NE(file, nullptr);
+  const std::uint64_t far = (5ULL << 30) / 2 + 7;  // 2.5 GiB and a few bytes
+  EXPECT_TRUE(io::os::seek(file, far));
+  EXPECT_EQ(io::os::tell(file), static_cast<std::int64_t>(far));
+  EXPECT_EQ(std::fgetc(file), 0);  // a hole reads as zeros
+  EXPECT_EQ(io::os::tell(file), static_cast<std::int64_t>(far + 1));
+  io::os::FileStatus file_status;
+  ASSERT_TRUE(io::os::file_status(file, &file_status));
+  EXPECT_TRUE(file_status.regular);
+  EXPECT_EQ(file_status.size, static_cast<std::int64_t>(whole));
+  std::fclose(file);
+
+  // One byte short of its pixels: truncated, counted in 64 bits.
+  std::filesystem::resize_file(io::os::to_path(pfm.path), whole - 1);
+  status = io::read_image_info(pfm.path, &info);
+  EXPECT_EQ(status.error, io::IoError::truncated) << status.message;
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -28,9 +28,14 @@ const char* to_string(StatusCode code) noexcept;
 class [[nodiscard]] Status {
  public:
   Status() noexcept = default;  // ok
-  // printf-style message; truncated to fit the fixed buffer.
+  // printf-style message, in the C99 dialect on every platform (%td, %zu, %lld; src/status.cpp);
+  // truncated to fit the fixed buffer.
   Status(StatusCode code, const char* format, ...) noexcept
-#if defined(__GNUC__)
+#if defined(__MINGW32__) && !defined(__clang__)
+      // GCC's `printf` means msvcrt's dialect on MinGW; the message is formatted by MinGW's own
+      // C99 printf, which `gnu_printf` describes.
+      __attribute__((format(gnu_printf, 3, 4)))
+#elif defined(__GNUC__)
       __attribute__((format(printf, 3, 4)))
 #endif
       ;

@@ -23,15 +23,15 @@ constexpr Arch kSet = Arch::REPROJECT_TEST_SET;
 using SetArch = typename detail::InstructionSet<kSet>::arch;
 using SetFma = typename detail::InstructionSet<kSet>::fma;
 
-// The calling thread's counts; each resolved row adds its own.
-thread_local FetchModeCounts t_counts{};
-const FetchModeCounts* counts_of_thread() { return &t_counts; }
+// The calling thread's counts of this set; each resolved row adds its own.
+const FetchModeCounts* counts_of_thread() { return fetch_mode_counts_of_thread(kSet); }
 
 struct CountingTally {
   std::uint64_t vectors[4] = {};
   void add(int mode) { ++vectors[mode]; }
   void end_row() {
-    for (int m = 0; m < 4; ++m) t_counts.vectors[m] += vectors[m];
+    FetchModeCounts* counts = fetch_mode_counts_of_thread(kSet);
+    for (int m = 0; m < 4; ++m) counts->vectors[m] += vectors[m];
   }
 };
 

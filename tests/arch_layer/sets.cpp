@@ -40,6 +40,11 @@ SetObjects objects_of(Arch arch) {
 
 }  // namespace
 
+FetchModeCounts* fetch_mode_counts_of_thread(Arch set) {
+  thread_local FetchModeCounts counts[kArchCount] = {};
+  return &counts[static_cast<int>(set)];
+}
+
 const ArchLayerChecks* arch_layer_checks(Arch arch) { return objects_of(arch).checks; }
 CountedTable counted_kernels(Arch arch) { return objects_of(arch).counted; }
 

@@ -38,6 +38,11 @@ struct ArchLayerChecks {
 struct FetchModeCounts {
   std::uint64_t vectors[4];
 };
+// The calling thread's counts for `set`. Defined in sets.cpp, compiled with the baseline flags: a
+// thread_local defined in a set's translation unit may be aligned by clang for that set's 32- or
+// 64-byte vector accesses, and Windows aligns a thread's TLS block to 16 bytes only (clang's MinGW
+// build faulted on an aligned AVX load of it).
+FetchModeCounts* fetch_mode_counts_of_thread(Arch set);
 struct CountedTable {
   const detail::KernelTable* table;       // null: the set is not compiled in
   const FetchModeCounts* (*of_thread)();  // the calling thread's counts of this table

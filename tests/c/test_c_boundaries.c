@@ -9,15 +9,19 @@
  * (fork), so that a library that crashes on it fails that case and the others still run. Prints
  * one line per case; exits non-zero if any failed. */
 #define _DEFAULT_SOURCE
-#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(_WIN32)
+#include <windows.h> /* VirtualAlloc for the arena; each case in a child process of its own */
+#else
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#endif
 
 #include "reproject/reproject.h"
 
@@ -32,6 +36,21 @@ static unsigned char* snapshot;   /* the arena before the call under test */
 static size_t arena_used;
 
 static void arena_init(void) {
+#if defined(_WIN32)
+  SYSTEM_INFO info;
+  DWORD old;
+  size_t page;
+  unsigned char* base;
+  GetSystemInfo(&info);
+  page = info.dwPageSize;
+  base = VirtualAlloc(NULL, kArenaBytes + 2 * page, MEM_RESERVE | MEM_COMMIT, PAGE_READWRITE);
+  if (base == NULL) {
+    fprintf(stderr, "VirtualAlloc failed\n");
+    exit(2);
+  }
+  VirtualProtect(base, page, PAGE_NOACCESS, &old);
+  VirtualProtect(base + page + kArenaBytes, page, PAGE_NOACCESS, &old);
+#else
   const size_t page = (size_t)sysconf(_SC_PAGESIZE);
   unsigned char* base = mmap(NULL, kArenaBytes + 2 * page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (base == MAP_FAILED) {
@@ -40,6 +59,7 @@ static void arena_init(void) {
   }
   mprotect(base, page, PROT_NONE);
   mprotect(base + page + kArenaBytes, page, PROT_NONE);
+#endif
   arena = base + page;
   snapshot = malloc(kArenaBytes);
   if (snapshot == NULL) exit(2);
@@ -687,11 +707,55 @@ static const Case kCases[] = {
     {"defect 7: cancellation", case_cancellation},
 };
 
-int main(void) {
+#if defined(_WIN32)
+/* Windows has no fork: each case runs in a child started as `<this program> <case number>`. A crash
+ * ends the child with an exception code (STATUS_ACCESS_VIOLATION, 0xC0000005, and the like). */
+static int run_case(size_t i, unsigned long* exception) {
+  wchar_t self[MAX_PATH], command[MAX_PATH + 32];
+  STARTUPINFOW startup;
+  PROCESS_INFORMATION process;
+  DWORD code = 2;
+  *exception = 0;
+  if (GetModuleFileNameW(NULL, self, MAX_PATH) == 0) return 2;
+  swprintf(command, MAX_PATH + 32, L"\"%ls\" %u", self, (unsigned)i);
+  memset(&startup, 0, sizeof startup);
+  startup.cb = sizeof startup;
+  if (!CreateProcessW(NULL, command, NULL, NULL, TRUE, 0, NULL, NULL, &startup, &process)) {
+    fprintf(stderr, "CreateProcess failed: %lu\n", (unsigned long)GetLastError());
+    return 2;
+  }
+  WaitForSingleObject(process.hProcess, INFINITE);
+  GetExitCodeProcess(process.hProcess, &code);
+  CloseHandle(process.hThread);
+  CloseHandle(process.hProcess);
+  if (code >= 0xC0000000u) *exception = code;
+  return (int)code;
+}
+#endif
+
+int main(int argc, char** argv) {
   size_t i;
   int failed = 0;
   arena_init();
   setvbuf(stdout, NULL, _IONBF, 0);
+#if defined(_WIN32)
+  if (argc == 2) return kCases[atoi(argv[1])].run() == 0 ? 0 : 1; /* a child: one case */
+  for (i = 0; i < sizeof kCases / sizeof kCases[0]; ++i) {
+    unsigned long exception = 0;
+    int code;
+    printf("%s\n", kCases[i].name);
+    code = run_case(i, &exception);
+    if (exception != 0) {
+      printf("FAILED %s: the library crashed (exception 0x%08lx)\n", kCases[i].name, exception);
+      ++failed;
+    } else if (code != 0) {
+      printf("FAILED %s\n", kCases[i].name);
+      ++failed;
+    }
+  }
+#else
+  (void)argc;
+  (void)argv;
   for (i = 0; i < sizeof kCases / sizeof kCases[0]; ++i) {
     pid_t child;
     int status = 0;
@@ -711,6 +775,7 @@ int main(void) {
       ++failed;
     }
   }
+#endif
   if (failed != 0) {
     printf("%d of %d case(s) failed\n", failed, (int)(sizeof kCases / sizeof kCases[0]));
     return 1;

@@ -11,9 +11,17 @@
 // result equals the scalar reference of the instruction set byte for byte (up to NaN payloads
 // where the depth holds NaN).
 #include <gtest/gtest.h>
+#include <csignal>
+#if defined(_WIN32)
+#ifndef NOMINMAX
+#define NOMINMAX  // windows.h would define min and max as macros
+#endif
+#include <windows.h>  // VirtualAlloc / VirtualProtect: the guard pages
+#else
 #include <signal.h>
 #include <sys/mman.h>
 #include <unistd.h>
+#endif
 
 #include <algorithm>
 #include <cfloat>
@@ -46,14 +54,32 @@ constexpr Method kMethods[] = {Method::scanline, Method::march16, Method::single
 // ---- a fault names the run it happened in ----------------------------------------------------------
 
 char g_current_run[256] = "(no run)";
+constexpr char kFaultHead[] = "\n*** hardening: memory fault outside a row (guard page) during run: ";
+
+#if defined(_WIN32)
+// Windows: a vectored handler sees the access violation first, writes, and lets it go on to the
+// default (the process ends with STATUS_ACCESS_VIOLATION).
+LONG CALLBACK on_fault(EXCEPTION_POINTERS* info) {
+  if (info->ExceptionRecord->ExceptionCode == EXCEPTION_ACCESS_VIOLATION) {
+    std::fputs(kFaultHead, stderr);
+    std::fputs(g_current_run, stderr);
+    std::fputs("\n", stderr);
+  }
+  return EXCEPTION_CONTINUE_SEARCH;
+}
+
+class FaultReporter : public ::testing::Environment {
+ public:
+  void SetUp() override { AddVectoredExceptionHandler(1, on_fault); }
+};
+#else
 struct sigaction g_previous_segv;
 struct sigaction g_previous_bus;
 
 // Async-signal-safe: write(2) only. Then the previous handler (ASan's, in the sanitizer build, with
 // its stack trace; else the default action) takes the re-executed faulting access.
 void on_fault(int signal, siginfo_t* info, void*) {
-  static const char kHead[] = "\n*** hardening: memory fault outside a row (guard page) during run: ";
-  ssize_t ignored = write(STDERR_FILENO, kHead, sizeof kHead - 1);
+  ssize_t ignored = write(STDERR_FILENO, kFaultHead, sizeof kFaultHead - 1);
   ignored = write(STDERR_FILENO, g_current_run, std::strlen(g_current_run));
   ignored = write(STDERR_FILENO, "\n", 1);
   (void)ignored;
@@ -72,6 +98,7 @@ class FaultReporter : public ::testing::Environment {
     sigaction(SIGBUS, &action, &g_previous_bus);
   }
 };
+#endif
 const auto* const g_fault_reporter = ::testing::AddGlobalTestEnvironment(new FaultReporter);
 
 void set_run_label(const std::string& label) {
@@ -94,7 +121,15 @@ const char* to_string(Placement p) {
 }
 
 std::size_t page_size() {
+#if defined(_WIN32)
+  static const std::size_t size = [] {
+    SYSTEM_INFO info;
+    GetSystemInfo(&info);
+    return static_cast<std::size_t>(info.dwPageSize);
+  }();
+#else
   static const std::size_t size = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+#endif
   return size;
 }
 
@@ -145,7 +180,11 @@ class GuardedPlane {
     for (int y = 0; y < height; ++y) std::fill(row(y), row(y) + row_, fill);
   }
   ~GuardedPlane() {
+#if defined(_WIN32)
+    if (base_ != nullptr) VirtualFree(base_, 0, MEM_RELEASE);
+#else
     if (base_ != nullptr) munmap(base_, map_bytes_);
+#endif
   }
   GuardedPlane(const GuardedPlane&) = delete;
   GuardedPlane& operator=(const GuardedPlane&) = delete;
@@ -159,12 +198,22 @@ class GuardedPlane {
  private:
   void map(std::size_t pages) {
     map_bytes_ = pages * page_size();
+#if defined(_WIN32)
+    void* p = VirtualAlloc(nullptr, map_bytes_, MEM_RESERVE | MEM_COMMIT, PAGE_READWRITE);
+    if (p == nullptr) std::abort();
+#else
     void* p = mmap(nullptr, map_bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED) std::abort();
+#endif
     base_ = static_cast<char*>(p);
   }
   void protect(std::size_t offset) {
+#if defined(_WIN32)
+    DWORD old = 0;
+    if (!VirtualProtect(base_ + offset, page_size(), PAGE_NOACCESS, &old)) std::abort();
+#else
     if (mprotect(base_ + offset, page_size(), PROT_NONE) != 0) std::abort();
+#endif
   }
 
   int width_;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ enum ExitCode : int {
   kExitUsage = 2,    // unknown subcommand or flag, missing or bad value, conflicting flags
   kExitInput = 3,    // an input file is missing, unreadable, of the wrong format, or of the wrong size
   kExitOutput = 4,   // an output file or directory cannot be written
+  kExitInterrupted = 130,  // Windows: Ctrl-C, Ctrl-Break or the console closing stopped the command
 };
 
 struct Failure {
@@ -121,7 +123,7 @@ bool same_destination(const std::string& a, const std::string& b);
 //    file keeps its mode.
 // If the command fails first, the destructor removes the temporary files, and the directories it
 // created when they are left empty; remove_temporaries_on_signals() does the same when SIGINT,
-// SIGTERM, SIGHUP or SIGQUIT ends the process.
+// SIGTERM, SIGHUP or SIGQUIT ends the process (Windows: Ctrl-C, Ctrl-Break, the console closing).
 class OutputSet {
  public:
   OutputSet() = default;
@@ -173,7 +175,17 @@ class OutputSet {
   bool committed_ = false;
 };
 // Installs the handlers that remove every temporary file when a signal ends the process (main).
+// POSIX: SIGINT, SIGTERM, SIGHUP, SIGQUIT remove them and end the process. Windows: a console
+// control event (Ctrl-C, Ctrl-Break, the console closing, logoff, shutdown) sets interruption(),
+// which every library call of the tool reads as Options::cancel: the call stops within a block of
+// rows, the command fails with kExitInterrupted, and its OutputSet removes its files as on any
+// failure; a command that does not get there within 3 s is ended by the handler, which removes
+// the temporary files itself.
 void remove_temporaries_on_signals();
+// The flag a console control event sets (never set on POSIX, where a signal ends the process).
+const std::atomic<bool>* interruption();
+// kExitInterrupted if interruption() is set.
+void fail_if_interrupted();
 
 // ---- Source frames, depth decoding and the parallax model --------------------------------------
 

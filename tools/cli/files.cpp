@@ -1,8 +1,14 @@
 // Reading inputs and writing outputs all or nothing (see OutputSet in cli.hpp). The formats are
 // imageio's; this file only normalises colour and stages the writes.
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#if defined(_WIN32)
+#ifndef NOMINMAX
+#define NOMINMAX  // windows.h would define min and max as macros
+#endif
+#include <windows.h>
+// windows.h defines near and far as empty macros (16-bit pointers): names of ours.
+#undef near
+#undef far
+#endif
 
 #include <atomic>
 #include <cctype>
@@ -14,6 +20,7 @@
 #include <system_error>
 
 #include "cli.hpp"
+#include "imageio/os.hpp"
 
 namespace reproject::cli {
 namespace fs = std::filesystem;
@@ -25,7 +32,7 @@ const char* format_list() { return ".png, .pfm or .exr"; }
 // Whether `path`'s extension (what follows the last '.' of its last component) is `extension`,
 // ignoring case.
 bool has_extension(const std::string& path, const char* extension) {
-  const std::size_t slash = path.find_last_of('/');
+  const std::size_t slash = path.find_last_of("/\\");
   const std::size_t dot = path.rfind('.');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return false;
   const std::string ext = path.substr(dot + 1);
@@ -107,16 +114,14 @@ void check_distinct_outputs(const Flags& flags, const std::vector<const char*>& 
   }
 }
 
-bool same_file(const std::string& a, const std::string& b) {
-  struct stat sa = {}, sb = {};
-  return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-}
+bool same_file(const std::string& a, const std::string& b) { return io::os::same_file(a, b); }
 
 bool same_destination(const std::string& a, const std::string& b) {
   if (same_file(a, b)) return true;
   std::error_code ea, eb;
-  const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
-  if (ea || eb) return fs::path(a).lexically_normal() == fs::path(b).lexically_normal();
+  const fs::path pa = io::os::to_path(a), pb = io::os::to_path(b);
+  const fs::path ca = fs::weakly_canonical(pa, ea), cb = fs::weakly_canonical(pb, eb);
+  if (ea || eb) return pa.lexically_normal() == pb.lexically_normal();
   return ca == cb;
 }
 
@@ -127,8 +132,24 @@ namespace {
 // While commit() renames, a signal must not remove the files it is moving: the handler then only
 // notes the signal, and commit() acts on it once the set is complete (or rolled back).
 std::atomic<bool> committing{false};
+std::atomic<bool> interrupted{false};
+#if !defined(_WIN32)
 std::atomic<int> deferred_signal{0};
+#endif
 
+#if defined(_WIN32)
+// Windows runs a console control handler on a thread of its own, while the command goes on: the
+// handler asks the command to stop (interrupted, read by the library as Options::cancel and by
+// the tool between steps) and gives it time to unwind through its own clean-up, which also closes
+// the files it is writing (an open file cannot be deleted). After a close event Windows ends the
+// process 5 s later whatever the handler does; 3 s are left to the command.
+BOOL WINAPI on_console_event(DWORD) {
+  interrupted.store(true);
+  for (int waited_ms = 0; waited_ms < 3000 || committing.load(); waited_ms += 10) Sleep(10);
+  io::remove_temporary_files();  // the writers' files are opened so that they can be deleted open
+  ExitProcess(kExitInterrupted);
+}
+#else
 void die_of(int signal_number) {
   io::remove_temporary_files();
   std::signal(signal_number, SIG_DFL);
@@ -142,14 +163,33 @@ extern "C" void on_terminating_signal(int signal_number) {
   }
   die_of(signal_number);
 }
+#endif
+
+// After commit(): the signal that came during it (POSIX), or the interruption (Windows).
+void act_on_deferred_signal() {
+#if !defined(_WIN32)
+  if (const int signal_number = deferred_signal.exchange(0)) die_of(signal_number);
+#endif
+  fail_if_interrupted();
+}
 
 }  // namespace
 
 void remove_temporaries_on_signals() {
+#if defined(_WIN32)
+  SetConsoleCtrlHandler(on_console_event, TRUE);
+#else
   struct sigaction action = {};
   action.sa_handler = on_terminating_signal;
   sigemptyset(&action.sa_mask);
   for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaction(signal_number, &action, nullptr);
+#endif
+}
+
+const std::atomic<bool>* interruption() { return &interrupted; }
+
+void fail_if_interrupted() {
+  if (interrupted.load()) fail(kExitInterrupted, "interrupted");
 }
 
 // ---- OutputSet --------------------------------------------------------------------------------
@@ -157,15 +197,13 @@ void remove_temporaries_on_signals() {
 OutputSet::~OutputSet() {
   if (committed_) return;
   for (const Staged& s : staged_) {
-    std::error_code ignored;
-    fs::remove(s.temporary, ignored);
+    io::os::remove_file(s.temporary.c_str());
     io::untrack_temporary(s.temporary);
   }
   // Innermost first: remove() only removes empty directories, so a directory that held
   // anything before (or that someone else wrote into meanwhile) stays.
   for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) {
-    std::error_code ignored;
-    fs::remove(*it, ignored);
+    io::os::remove_directory(it->c_str());
     io::untrack_temporary(*it);
   }
 }
@@ -186,24 +224,24 @@ void OutputSet::outputs(const Flags& flags, const std::vector<const char*>& name
 
 void OutputSet::make_directory(const std::string& dir) {
   std::error_code error;
-  if (fs::is_directory(dir, error)) return;
+  if (fs::is_directory(io::os::to_path(dir), error)) return;
   // Remember every level this call creates, outermost first; a file where a level should be is
   // reported as such (create_directories would only say "Not a directory" or "File exists").
   std::vector<std::string> missing;
-  for (fs::path p = fs::path(dir); !p.empty(); p = p.parent_path()) {
+  for (fs::path p = io::os::to_path(dir); !p.empty(); p = p.parent_path()) {
     const fs::file_status status = fs::status(p, error);
     if (fs::exists(status)) {
-      if (!fs::is_directory(status)) fail(kExitOutput, "'" + p.string() + "' exists and is not a directory");
+      if (!fs::is_directory(status)) fail(kExitOutput, "'" + io::os::from_path(p) + "' exists and is not a directory");
       break;
     }
-    missing.insert(missing.begin(), p.string());
+    missing.insert(missing.begin(), io::os::from_path(p));
     if (p == p.parent_path()) break;
   }
   for (const std::string& level : missing) {
     // Tracked before it is created (removed, when still empty, if a signal ends the command), so
     // that no moment exists where it is there but unknown to the signal handler.
     io::track_temporary(level);
-    const bool created = fs::create_directory(level, error);
+    const bool created = fs::create_directory(io::os::to_path(level), error);
     if (!created) io::untrack_temporary(level);  // failed, or someone else made it meanwhile: not ours
     if (error) fail(kExitOutput, "cannot create the directory '" + dir + "': " + error.message());
     if (created) created_dirs_.push_back(level);
@@ -213,10 +251,10 @@ void OutputSet::make_directory(const std::string& dir) {
 // "dir/name.png" -> "dir/name.reproject-<what><pid>-<n>.png": same directory (so the final
 // rename does not cross file systems) and same extension (imageio picks the format by it).
 std::string OutputSet::sibling(const std::string& path, const char* what, std::size_t n) {
-  const fs::path p(path);
-  return (p.parent_path() / (p.stem().string() + ".reproject-" + what + std::to_string(static_cast<long>(::getpid())) +
-                             "-" + std::to_string(n) + p.extension().string()))
-      .string();
+  const fs::path p = io::os::to_path(path);
+  const std::string name = io::os::from_path(p.stem()) + ".reproject-" + what + std::to_string(io::os::process_id()) +
+                           "-" + std::to_string(n) + io::os::from_path(p.extension());
+  return io::os::from_path(p.parent_path() / io::os::to_path(name));
 }
 
 void OutputSet::expect(const std::string& flag, const std::string& path) {
@@ -230,22 +268,19 @@ void OutputSet::expect(const std::string& flag, const std::string& path) {
     if (same_destination(s.destination, path)) fail(kExitUsage, "'" + path + "' is named as more than one output");
   }
   // Only regular files are replaced: a rename would put a file in place of a device or a pipe.
-  struct stat target = {};
-  if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode)) {
-    fail(kExitOutput, "cannot write '" + path + "': it is " + (S_ISDIR(target.st_mode) ? "a directory" : "not a regular file"));
+  const io::os::Kind kind = io::os::kind_of(path);
+  if (kind != io::os::Kind::missing && kind != io::os::Kind::regular) {
+    fail(kExitOutput, "cannot write '" + path + "': it is " + (kind == io::os::Kind::directory ? "a directory" : "not a regular file"));
   }
   // Reserve the temporary file now: that proves the directory exists and is writable before any
   // work is done, and the name stays ours until commit() or the destructor.
   // Tracked before it exists, as in make_directory (the name carries our pid).
   const std::string temporary = sibling(path, "tmp", staged_.size());
-  io::track_temporary(temporary);
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) {
-    const int code = errno;
-    io::untrack_temporary(temporary);
-    fail(kExitOutput, "cannot write '" + path + "': " + std::strerror(code));
-  }
-  ::close(fd);
+  bool exists = false;
+  std::string error;
+  std::FILE* reserved = io::create_temporary(temporary, &exists, &error);
+  if (reserved == nullptr) fail(kExitOutput, "cannot write '" + path + "': " + error);
+  std::fclose(reserved);
   staged_.push_back({temporary, path, false});
 }
 
@@ -355,7 +390,7 @@ void OutputSet::bytes(const std::string& path, const std::uint8_t* data, int wid
 void OutputSet::text(const std::string& path, const std::string& content) {
   const std::string& temporary = stage(path);
   errno = 0;
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
+  std::FILE* file = io::os::open_file(temporary, "wb");
   bool ok = file != nullptr && std::fwrite(content.data(), 1, content.size(), file) == content.size();
   int code = errno;
   if (file != nullptr && std::fclose(file) != 0 && ok) {
@@ -376,28 +411,28 @@ void OutputSet::commit() {
   };
   std::vector<Step> steps(staged_.size());
   std::string error_text;
+  fail_if_interrupted();  // nothing renamed yet: the destructor removes the set
   committing.store(true);
   std::size_t done = 0;
   for (; done < staged_.size(); ++done) {
     const Staged& s = staged_[done];
     Step& step = steps[done];
     if (!s.written) {  // reserved but never written (a command's plan changed): not an output
-      ::unlink(s.temporary.c_str());
+      io::os::remove_file(s.temporary.c_str());
       io::untrack_temporary(s.temporary);
       continue;
     }
-    struct stat old = {};
-    if (::stat(s.destination.c_str(), &old) == 0 && S_ISREG(old.st_mode)) {
+    if (io::os::kind_of(s.destination) == io::os::Kind::regular) {
       step.existed = true;
-      ::chmod(s.temporary.c_str(), old.st_mode & 07777);
+      io::os::copy_permissions(s.destination, s.temporary);
       const std::string backup = sibling(s.destination, "old", done);
-      if (::link(s.destination.c_str(), backup.c_str()) == 0) {
+      if (io::os::hard_link(s.destination, backup)) {
         step.backup = backup;
         io::track_temporary(backup);
       }
     }
-    if (::rename(s.temporary.c_str(), s.destination.c_str()) != 0) {
-      error_text = "cannot rename a temporary file onto '" + s.destination + "': " + std::strerror(errno);
+    if (std::string error; !io::os::replace_file(s.temporary, s.destination, &error)) {
+      error_text = "cannot rename a temporary file onto '" + s.destination + "': " + error;
       break;
     }
     step.renamed = true;
@@ -406,18 +441,19 @@ void OutputSet::commit() {
   if (!error_text.empty()) {
     for (std::size_t i = 0; i < done; ++i) {  // undo; the order does not matter: distinct files
       if (!steps[i].renamed) continue;
+      std::string ignored;
       if (!steps[i].backup.empty()) {
-        ::rename(steps[i].backup.c_str(), staged_[i].destination.c_str());
+        io::os::replace_file(steps[i].backup, staged_[i].destination, &ignored);
       } else if (!steps[i].existed) {
-        ::unlink(staged_[i].destination.c_str());
+        io::os::remove_file(staged_[i].destination.c_str());
       }
     }
-    for (std::size_t i = done; i < staged_.size(); ++i) ::unlink(staged_[i].temporary.c_str());
-    if (done < staged_.size() && !steps[done].backup.empty()) ::unlink(steps[done].backup.c_str());
+    for (std::size_t i = done; i < staged_.size(); ++i) io::os::remove_file(staged_[i].temporary.c_str());
+    if (done < staged_.size() && !steps[done].backup.empty()) io::os::remove_file(steps[done].backup.c_str());
   } else {
     committed_ = true;
     for (const Step& step : steps) {
-      if (!step.backup.empty()) ::unlink(step.backup.c_str());
+      if (!step.backup.empty()) io::os::remove_file(step.backup.c_str());
     }
     for (auto it = created_dirs_.rbegin(); it != created_dirs_.rend(); ++it) io::untrack_temporary(*it);
   }
@@ -425,7 +461,7 @@ void OutputSet::commit() {
     if (!step.backup.empty()) io::untrack_temporary(step.backup);
   }
   committing.store(false);
-  if (const int signal_number = deferred_signal.exchange(0)) die_of(signal_number);
+  act_on_deferred_signal();
   if (!error_text.empty()) fail(kExitOutput, error_text);
 }
 

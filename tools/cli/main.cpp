@@ -9,8 +9,10 @@
 #include <cstring>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "cli.hpp"
+#include "imageio/os.hpp"
 
 namespace {
 
@@ -31,14 +33,24 @@ const char kUsage[] =
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int main(int argc, char** system_argv) {
   using namespace reproject::cli;
+  // UTF-8 arguments on every system (Windows passes the ANSI code page's bytes).
+  std::vector<std::string> arguments = reproject::io::os::arguments(argc, system_argv);
+  std::vector<char*> argv_utf8;
+  for (std::string& argument : arguments) argv_utf8.push_back(argument.data());
+  argv_utf8.push_back(nullptr);
+  argc = static_cast<int>(arguments.size());
+  char** argv = argv_utf8.data();
   if (argc < 2) {
     std::fputs(kUsage, stderr);
     return kExitUsage;
   }
   const std::string command = argv[1];
   remove_temporaries_on_signals();
+  // A command that fails after Ctrl-C was interrupted, whatever step failed (Windows: once the
+  // console handler has removed the temporary files, a write under way fails).
+  auto failed = [](int code) { return interruption()->load() ? static_cast<int>(kExitInterrupted) : code; };
   try {
     // Before the arch check: the version is printed whatever the environment says.
     if (command == "--version") {
@@ -63,14 +75,14 @@ int main(int argc, char** argv) {
     // Outputs are flushed first so that the error is the last line a user sees.
     std::fflush(stdout);
     std::fprintf(stderr, "reproject: error: %s\n", f.message.c_str());
-    return f.code;
+    return failed(f.code);
   } catch (const std::bad_alloc&) {
     std::fflush(stdout);
     std::fprintf(stderr, "reproject: error: out of memory\n");
-    return kExitRuntime;
+    return failed(kExitRuntime);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "reproject: error: %s\n", e.what());
-    return kExitRuntime;
+    return failed(kExitRuntime);
   }
 }

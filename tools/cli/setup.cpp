@@ -88,6 +88,7 @@ std::vector<Flags::Spec> option_flags(bool with_method, bool with_guard, bool wi
 }
 
 void check_status(const Status& status, const std::string& what) {
+  if (status.code() == StatusCode::cancelled) fail_if_interrupted();  // the user stopped the command
   if (!status.ok()) fail(kExitRuntime, what + ": " + to_string(status.code()) + ": " + status.message());
 }
 
@@ -205,6 +206,7 @@ ParallaxModel model_from_flags(const Flags& flags, int width, EyeDirection* dire
 
 Options options_from_flags(const Flags& flags, bool read_threads_arch) {
   Options o;
+  o.cancel = interruption();  // Windows: a console control event stops the call
   // Flags a subcommand does not declare are never set, so these reads are safe for all of them.
   if (flags.has("method")) {
     const std::string name = flags.text("method");

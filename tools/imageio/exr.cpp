@@ -24,7 +24,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <climits>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -33,6 +32,7 @@
 
 #include "imageio/file_util.hpp"
 #include "imageio/imageio.hpp"
+#include "imageio/os.hpp"
 
 namespace reproject::io {
 namespace {
@@ -61,7 +61,7 @@ class FileInput final : public Imf::IStream {
     throw Iex::InputExc("unexpected end of file");
   }
   std::uint64_t tellg() override {
-    const long position = std::ftell(file_);
+    const std::int64_t position = os::tell(file_);
     if (position < 0) throw Iex::IoExc("cannot tell the file position");
     return static_cast<std::uint64_t>(position);
   }
@@ -69,7 +69,7 @@ class FileInput final : public Imf::IStream {
     // Seeking past the end succeeds; the read that follows reports the truncation. An offset
     // beyond any possible file (a damaged or cut offset table: the system refuses the seek) is
     // reported as the file ending too.
-    if (position > static_cast<std::uint64_t>(LONG_MAX) || std::fseek(file_, static_cast<long>(position), SEEK_SET) != 0) {
+    if (!os::seek(file_, position)) {
       ended_ = true;
       throw Iex::InputExc("an offset beyond the end of the file");
     }
@@ -97,7 +97,7 @@ class FileOutput final : public Imf::OStream {
     throw Iex::IoExc("write error");
   }
   std::uint64_t tellp() override {
-    const long position = std::ftell(file_);
+    const std::int64_t position = os::tell(file_);
     if (position < 0) {
       fail(errno);
       throw Iex::IoExc("cannot tell the file position");
@@ -105,8 +105,7 @@ class FileOutput final : public Imf::OStream {
     return static_cast<std::uint64_t>(position);
   }
   void seekp(std::uint64_t position) override {
-    if (position > static_cast<std::uint64_t>(LONG_MAX) ||
-        std::fseek(file_, static_cast<long>(position), SEEK_SET) != 0) {
+    if (!os::seek(file_, position)) {
       fail(errno);
       throw Iex::IoExc("cannot seek");
     }

@@ -1,9 +1,5 @@
 #include "imageio/file_util.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -13,6 +9,11 @@
 #include <filesystem>
 #include <system_error>
 #include <utility>
+#if defined(_WIN32)
+#include <mutex>
+#endif
+
+#include "imageio/os.hpp"
 
 namespace reproject::io {
 
@@ -62,14 +63,44 @@ void untrack_temporary(const std::string& path) {
   }
 }
 
+#if defined(_WIN32)
+namespace {
+std::mutex creation;    // create_temporary against the clean-up
+bool cleaned = false;   // remove_temporary_files has run: create nothing more
+}  // namespace
+#endif
+
+std::FILE* create_temporary(const std::string& path, bool* exists, std::string* error) {
+#if defined(_WIN32)
+  std::lock_guard<std::mutex> hold(creation);
+  if (cleaned) {
+    *exists = false;
+    *error = "the program is being interrupted";
+    return nullptr;
+  }
+#endif
+  // Tracked before it exists: a signal between the creation and the tracking would otherwise
+  // leave the file behind (CI once caught one). The name carries our pid, so what the handler
+  // might unlink in that window is never another process's file.
+  track_temporary(path);
+  std::FILE* file = os::create_new(path, exists, error);
+  if (file == nullptr) untrack_temporary(path);
+  return file;
+}
+
 void remove_temporary_files() noexcept {
+#if defined(_WIN32)
+  // Another thread than the program's (the console handler): it waits for a creation under way.
+  std::lock_guard<std::mutex> hold(creation);
+  cleaned = true;
+#endif
   // Files first; then directories (rmdir fails on a file and on a non-empty directory), newest
   // first, so that a nest of directories created one inside the other goes from the inside.
   for (std::atomic<char*>& slot : temporary_slots) {
-    if (const char* name = slot.load()) unlink(name);
+    if (const char* name = slot.load()) os::remove_file(name);
   }
   for (int i = kTemporarySlots - 1; i >= 0; --i) {
-    if (const char* name = temporary_slots[i].load()) rmdir(name);
+    if (const char* name = temporary_slots[i].load()) os::remove_directory(name);
   }
 }
 
@@ -97,19 +128,6 @@ InputFile::~InputFile() {
   if (file_ != nullptr) std::fclose(file_);
 }
 
-namespace {
-
-const char* file_kind(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
-}
-
-}  // namespace
-
 IoStatus refuse_standard_input(const std::string& path) {
   if (path != "-") return {};
   return failure(IoError::unsupported, "'-' is not a regular file (standard input is not read): inputs are read from "
@@ -118,38 +136,17 @@ IoStatus refuse_standard_input(const std::string& path) {
 
 IoStatus InputFile::open(const std::string& path) {
   // Only regular files are read: their size is known before a byte is read (the readers check
-  // headers against it), and reading one never blocks. A FIFO nobody writes to would block open()
-  // itself, so the file is opened without blocking and its type checked before anything else.
+  // headers against it), and reading one never blocks. os::open_input learns what the path is
+  // before any read, without blocking on a FIFO or a pipe (docs/CLI.md).
   if (IoStatus status = refuse_standard_input(path); !status) return status;
-  errno = 0;
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) {
-    const int code = errno;
-    return failure(IoError::open_failed, "cannot open " + quote_path(path) + ": " +
-                                             (code != 0 ? system_error_text(code) : "unknown error"));
-  }
-  struct stat info = {};
-  if (::fstat(fd, &info) != 0) {
-    const int code = errno;
-    ::close(fd);
-    return read_error(path, code);
-  }
-  if (!S_ISREG(info.st_mode)) {
-    ::close(fd);
-    return failure(S_ISDIR(info.st_mode) ? IoError::read_failed : IoError::unsupported,
-                   quote_path(path) + " is not a regular file (" + file_kind(info.st_mode) +
+  os::Input in = os::open_input(path);
+  if (in.kind == os::Kind::missing) return failure(IoError::open_failed, "cannot open " + quote_path(path) + ": " + in.error);
+  if (in.kind != os::Kind::regular) {
+    return failure(in.kind == os::Kind::directory ? IoError::read_failed : IoError::unsupported,
+                   quote_path(path) + " is not a regular file (" + os::describe(in.kind) +
                        "): inputs are read from regular files only");
   }
-  // A regular file's reads never block; the flag is cleared anyway, so that the FILE reads as usual.
-  const int flags = ::fcntl(fd, F_GETFL);
-  if (flags != -1) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
-  file_ = ::fdopen(fd, "rb");
-  if (file_ == nullptr) {
-    const int code = errno;
-    ::close(fd);
-    return failure(IoError::open_failed, "cannot open " + quote_path(path) + ": " +
-                                             (code != 0 ? system_error_text(code) : "unknown error"));
-  }
+  file_ = in.file;
   return {};
 }
 
@@ -162,7 +159,7 @@ std::string temporary_name(const std::string& destination, int attempt) {
   const auto ticks = static_cast<unsigned long long>(
       std::chrono::steady_clock::now().time_since_epoch().count());
   const unsigned serial = counter.fetch_add(1, std::memory_order_relaxed);
-  return destination + ".tmp" + std::to_string(static_cast<long>(::getpid())) + "-" +
+  return destination + ".tmp" + std::to_string(os::process_id()) + "-" +
          std::to_string(ticks % 1000000007ULL) + "-" + std::to_string(serial) + "-" + std::to_string(attempt);
 }
 
@@ -176,7 +173,7 @@ void ReplacingFile::discard() noexcept {
     file_ = nullptr;
   }
   if (!temporary_.empty()) {
-    std::remove(temporary_.c_str());
+    os::remove_file(temporary_.c_str());
     untrack_temporary(temporary_);
     temporary_.clear();
   }
@@ -185,25 +182,18 @@ void ReplacingFile::discard() noexcept {
 IoStatus ReplacingFile::create(const std::string& destination) {
   discard();
   destination_ = destination;
-  int code = 0;
+  std::string error = "unknown error";
   for (int attempt = 0; attempt < 8; ++attempt) {
     std::string name = temporary_name(destination, attempt);
-    // Tracked before it exists: a signal between the creation and the tracking would otherwise
-    // leave the file behind (CI once caught one). The name carries our pid, so what the handler
-    // might unlink in that window is never another process's file.
-    track_temporary(name);
-    errno = 0;
-    file_ = std::fopen(name.c_str(), "wbx");
-    code = errno;
+    bool exists = false;
+    file_ = create_temporary(name, &exists, &error);
     if (file_ != nullptr) {
       temporary_ = std::move(name);
       return {};
     }
-    untrack_temporary(name);
-    if (code != EEXIST) break;
+    if (!exists) break;
   }
-  return failure(IoError::write_failed, "cannot create a temporary file next to " + quote_path(destination) +
-                                            ": " + (code != 0 ? system_error_text(code) : "unknown error"));
+  return failure(IoError::write_failed, "cannot create a temporary file next to " + quote_path(destination) + ": " + error);
 }
 
 IoStatus ReplacingFile::commit() {
@@ -219,13 +209,10 @@ IoStatus ReplacingFile::commit() {
     return failure(IoError::write_failed, "cannot write " + quote_path(destination_) + ": " +
                                               (code != 0 ? system_error_text(code) : "unknown error"));
   }
-  // std::filesystem::rename replaces an existing destination (also where std::rename would not).
-  std::error_code error;
-  std::filesystem::rename(temporary_, destination_, error);
-  if (error) {
+  // Replaces an existing destination atomically (POSIX rename; Windows MoveFileExW).
+  if (std::string error; !os::replace_file(temporary_, destination_, &error)) {
     discard();
-    return failure(IoError::write_failed, "cannot rename the temporary file onto " + quote_path(destination_) +
-                                              ": " + error.message());
+    return failure(IoError::write_failed, "cannot rename the temporary file onto " + quote_path(destination_) + ": " + error);
   }
   untrack_temporary(temporary_);
   temporary_.clear();

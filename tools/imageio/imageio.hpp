@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -238,5 +239,10 @@ IoStatus write_raw(const std::string& path, const std::uint8_t* data, std::size_
 void track_temporary(const std::string& path);
 void untrack_temporary(const std::string& path);
 void remove_temporary_files() noexcept;
+// Creates `path` for writing, failing if it exists (`*exists` then set; `*error` says why), tracked
+// from before it exists. On Windows remove_temporary_files() may run on another thread (the
+// console's control handler) while the program goes on: from then on nothing is created, and a
+// creation under way finishes first, so that no file appears after the clean-up.
+std::FILE* create_temporary(const std::string& path, bool* exists, std::string* error);
 
 }  // namespace reproject::io

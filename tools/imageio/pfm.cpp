@@ -10,8 +10,6 @@
 // Bytes are assembled into 32-bit words explicitly, so the code does not depend on the host's byte
 // order; the words are then reinterpreted as IEEE floats with memcpy, so every value, NaN payloads
 // included, round-trips bit for bit.
-#include <sys/stat.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +21,7 @@
 
 #include "imageio/file_util.hpp"
 #include "imageio/imageio.hpp"
+#include "imageio/os.hpp"
 
 namespace reproject::io {
 namespace {
@@ -175,11 +174,11 @@ IoStatus read_pfm_header(std::FILE* f, const std::string& path, PfmHeader* heade
                                              "-pixel limit");
   }
   const unsigned long long total = 4ULL * static_cast<unsigned long long>(width) * height * channels;
-  struct stat info = {};
-  const long position = std::ftell(f);
-  if (fstat(fileno(f), &info) == 0 && S_ISREG(info.st_mode) && position >= 0) {
+  os::FileStatus info;
+  const std::int64_t position = os::tell(f);
+  if (os::file_status(f, &info) && info.regular && position >= 0) {
     const unsigned long long available =
-        info.st_size > position ? static_cast<unsigned long long>(info.st_size - position) : 0ULL;
+        info.size > position ? static_cast<unsigned long long>(info.size - position) : 0ULL;
     if (available < total) return pixel_data_truncated(path, available, total, width, height, channels);
   }
   header->width = width;

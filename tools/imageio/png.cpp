@@ -10,7 +10,6 @@
 // The callbacks themselves (I/O, errors) only touch the plain PngSession, never throw and never
 // hold objects with destructors.
 #include <png.h>
-#include <sys/stat.h>
 
 #include <cerrno>
 #include <csetjmp>
@@ -23,6 +22,7 @@
 
 #include "imageio/file_util.hpp"
 #include "imageio/imageio.hpp"
+#include "imageio/os.hpp"
 
 namespace reproject::io {
 namespace {
@@ -277,10 +277,10 @@ IoStatus PngReader::open(const std::string& path) {
   if (layout_.row_bytes < static_cast<std::size_t>(layout_.width) * layout_.channels * (layout_.bit_depth / 8)) {
     return failure(IoError::unsupported, quote_path(path) + ": unexpected row size from libpng");
   }
-  struct stat info = {};
-  if (fstat(fileno(file_.get()), &info) == 0 && S_ISREG(info.st_mode)) {
+  os::FileStatus info;
+  if (os::file_status(file_.get(), &info) && info.regular) {
     const unsigned long long raw = static_cast<unsigned long long>(layout_.height) * (layout_.file_row_bytes + 1);
-    const unsigned long long size = static_cast<unsigned long long>(info.st_size);
+    const unsigned long long size = static_cast<unsigned long long>(info.size);
     if (size * kDeflateMaxRatio + kDeflateSlack < raw) {
       return failure(IoError::truncated, quote_path(path) + " is truncated: a " + std::to_string(layout_.width) + "x" +
                                              std::to_string(layout_.height) + " PNG inflates to " +

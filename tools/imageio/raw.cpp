@@ -1,7 +1,5 @@
 // Raw buffers: an engine's bytes with no header (imageio.hpp). The size is all a reader can
 // check, so it is checked exactly, before anything is allocated.
-#include <sys/stat.h>
-
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +9,7 @@
 
 #include "imageio/file_util.hpp"
 #include "imageio/imageio.hpp"
+#include "imageio/os.hpp"
 
 namespace reproject::io {
 namespace {
@@ -38,13 +37,13 @@ IoStatus bad_word_size(int word_bytes) {
 }
 
 IoStatus check_size(const std::string& path, std::FILE* file, std::uint64_t bytes, const std::string& what) {
-  struct stat info = {};
-  if (::fstat(fileno(file), &info) != 0) return detail::read_error(path, errno);
-  if (S_ISDIR(info.st_mode)) return detail::read_error(path, EISDIR);
-  if (!S_ISREG(info.st_mode)) {
+  os::FileStatus info;
+  if (!os::file_status(file, &info)) return detail::read_error(path, errno);
+  if (info.directory) return detail::read_error(path, EISDIR);
+  if (!info.regular) {
     return failure(IoError::unsupported, quote_path(path) + " is not a regular file: a raw buffer's size cannot be checked");
   }
-  const std::uint64_t size = static_cast<std::uint64_t>(info.st_size);
+  const std::uint64_t size = static_cast<std::uint64_t>(info.size);
   if (size != bytes) {
     return failure(IoError::size_mismatch, quote_path(path) + " holds " + std::to_string(size) + " bytes, but " + what +
                                                " is " + std::to_string(bytes) + " bytes");
