@@ -138,9 +138,10 @@ struct Scene {
   SourceView floats() const {
     SourceView view;
     view.depth = FloatPlane{depth.data(), width, height, width};
-    for (int c = 0; c < 3; ++c)
-      view.color.plane[c] = FloatPlane{color.data() + static_cast<std::size_t>(c) * width * height, width, height, width};
-    view.color.channels = 3;
+    const std::size_t n = static_cast<std::size_t>(width) * height;
+    view.color = ColorView::planar({FloatPlane{color.data(), width, height, width},
+                                    FloatPlane{color.data() + n, width, height, width},
+                                    FloatPlane{color.data() + 2 * n, width, height, width}});
     return view;
   }
   SourceView engine() const {
@@ -165,9 +166,10 @@ struct Outputs {
     x[eye].assign(n, -1.0f);
     status[eye].assign(n, 99);
     TargetView t;
-    for (int c = 0; c < 3; ++c)
-      t.color.plane[c] = MutableFloatPlane{color[eye].data() + static_cast<std::size_t>(c) * n, width, height, width};
-    t.color.channels = 3;
+    float* rgb = color[eye].data();
+    t.color = MutableColorView::planar({MutableFloatPlane{rgb, width, height, width},
+                                        MutableFloatPlane{rgb + n, width, height, width},
+                                        MutableFloatPlane{rgb + 2 * n, width, height, width}});
     t.depth = MutableFloatPlane{depth[eye].data(), width, height, width};
     t.status = BytePlane{status[eye].data(), width, height, width};
     t.source_x = MutableFloatPlane{x[eye].data(), width, height, width};
