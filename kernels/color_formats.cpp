@@ -39,7 +39,7 @@ SrgbTables build_srgb_tables() {
     while (byte < 255 && threshold[byte + 1] <= lowest) ++byte;
     const std::uint32_t bucket_top = kSrgbFirstBucket + static_cast<std::uint32_t>(b);
     const std::uint32_t next = bits_of_float(threshold[byte + 1]);
-    const std::int32_t step = (next >> kSrgbBucketShift) == bucket_top ? static_cast<std::int32_t>(next & 0xffffu) : kSrgbNoStep;
+    const std::int32_t step = (next >> kSrgbBucketShift) == bucket_top ? static_cast<std::int32_t>(next & kSrgbLowMask) : kSrgbNoStep;
     t.bucket[b] = byte << kSrgbStepBits | step;
     // The bucket must not hold a second threshold (kernels/color_formats.hpp); the shift is
     // chosen so that it never does, and this keeps it so.

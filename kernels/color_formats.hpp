@@ -27,8 +27,10 @@ struct SrgbTables {
   float to_linear[256];              // the exact linear value of each byte, rounded to float
   std::int32_t bucket[kSrgbBuckets];  // byte << kSrgbStepBits | the next byte's step (see above)
 };
-constexpr int kSrgbStepBits = 17;
-constexpr std::int32_t kSrgbNoStep = 1 << 16;  // above every 16-bit low part: never reached
+constexpr std::uint32_t kSrgbLowMask = (1u << kSrgbBucketShift) - 1;  // a float's bits within its bucket
+constexpr int kSrgbStepBits = kSrgbBucketShift + 1;
+constexpr std::int32_t kSrgbStepMask = (1 << kSrgbStepBits) - 1;
+constexpr std::int32_t kSrgbNoStep = 1 << kSrgbBucketShift;  // above every low part: never reached
 const SrgbTables& srgb_tables();
 
 namespace {  // one copy per translation unit (kernels/fma.hpp)
@@ -40,8 +42,8 @@ inline std::uint8_t srgb_encode(const SrgbTables& tables, float linear) noexcept
   l = l < 1.0f ? l : 1.0f;
   const std::uint32_t bits = bits_of_float(l);
   const std::int32_t word = tables.bucket[(bits >> kSrgbBucketShift) - kSrgbFirstBucket];
-  const std::int32_t low = static_cast<std::int32_t>(bits & 0xffffu);
-  return static_cast<std::uint8_t>((word >> kSrgbStepBits) + (low >= (word & ((1 << kSrgbStepBits) - 1)) ? 1 : 0));
+  const std::int32_t low = static_cast<std::int32_t>(bits & kSrgbLowMask);
+  return static_cast<std::uint8_t>((word >> kSrgbStepBits) + (low >= (word & kSrgbStepMask) ? 1 : 0));
 }
 
 // A row's colour in its format: writes target pixel t as source columns j0 and j1 blended at

@@ -31,13 +31,15 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
     return fixed;
   } else {
     I out = fixed & I(static_cast<std::int32_t>(0xff000000u));  // alpha as rgba8
+    // Consecutive: w0's lane 0, whose bytes start the shifted-in linear values.
+    std::uint32_t first_word = 0;
+    if constexpr (Consecutive) first_word = bits_of_float(first_lane<Arch>(float_bits<Arch>(w0)));
     auto channel = [&](auto c_tag) {
       constexpr int c = decltype(c_tag)::value;
       const F l1 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w1));
       F l0;
       if constexpr (Consecutive) {
-        const std::uint32_t lane0 = bits_of_float(first_lane<Arch>(float_bits<Arch>(w0)));
-        l0 = shift_in_first<Arch>(l1, f.srgb->to_linear[(lane0 >> (8 * c)) & 0xffu]);
+        l0 = shift_in_first<Arch>(l1, f.srgb->to_linear[(first_word >> (8 * c)) & 0xffu]);
       } else {
         l0 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w0));
       }
@@ -50,7 +52,7 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
       const I word = bits_of<Arch>(gather<Arch>(reinterpret_cast<const float*>(f.srgb->bucket),
                                                 (bits >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket))));
       // One more at or beyond the step: (low - step) >> 31 is -1 below it, 0 at or beyond.
-      const I below = ((bits & I(0xffff)) - (word & I((1 << kSrgbStepBits) - 1))) >> 31;
+      const I below = ((bits & I(static_cast<std::int32_t>(kSrgbLowMask))) - (word & I(kSrgbStepMask))) >> 31;
       out = out | (((word >> kSrgbStepBits) + I(1) + below) << (8 * c));
     };
     channel(std::integral_constant<int, 0>{});
