@@ -1499,7 +1499,97 @@ TEST(CliSafety, ReplacedOutputKeepsItsMode) {
 #endif
 }
 
-// Row 6: SIGINT, SIGTERM and SIGHUP at any moment of a run leave no temporary file.
+// One run of the tool, in a folder, that the test interrupts: POSIX sends it a signal; Windows
+// sends Ctrl-C (a console control event) to the console of its own it runs in. The tool's handler
+// stops the running call through Options::cancel and the command unwinds, or ends it after 3 s.
+class InterruptedRun {
+ public:
+  enum class Outcome { kFinished, kInterrupted, kFailed };
+
+  InterruptedRun(std::vector<std::string> words, const fs::path& dir) {
+#if defined(_WIN32)
+    std::wstring command;
+    for (const std::string& word : words) command += rptest::quote_argument(rptest::wide(word)) + L" ";
+    started_ = rptest::start_process(command, dir.wstring(), nullptr, nullptr, true, &process_);
+#else
+    std::vector<char*> argv;
+    for (std::string& word : words) argv.push_back(word.data());
+    argv.push_back(nullptr);
+    child_ = ::fork();
+    if (child_ == 0) {
+      if (::chdir(dir.c_str()) != 0) _exit(125);
+      std::freopen("/dev/null", "w", stdout);
+      std::freopen("/dev/null", "w", stderr);
+      ::execvp(argv[0], argv.data());
+      _exit(126);
+    }
+    started_ = child_ > 0;
+#endif
+  }
+  InterruptedRun(const InterruptedRun&) = delete;
+  InterruptedRun& operator=(const InterruptedRun&) = delete;
+  ~InterruptedRun() { (void)wait(); }
+
+  bool started() const { return started_; }
+
+  bool running() {
+    if (!started_ || done_) return false;
+#if defined(_WIN32)
+    return WaitForSingleObject(process_.hProcess, 0) == WAIT_TIMEOUT;
+#else
+    if (::waitpid(child_, &status_, WNOHANG) == 0) return true;
+    done_ = true;
+    return false;
+#endif
+  }
+
+  // `signal_number` is POSIX's; Windows sends Ctrl-C whatever it is.
+  void interrupt(int signal_number) {
+    if (!started_ || done_) return;
+#if defined(_WIN32)
+    (void)signal_number;
+    rptest::send_ctrl_c(process_.dwProcessId);  // false when the run has ended meanwhile
+#else
+    ::kill(child_, signal_number);
+#endif
+  }
+
+  // Waits for the end of the run (at most 30 s on Windows: kFailed after that).
+  Outcome wait() {
+    if (!started_) return Outcome::kFailed;
+#if defined(_WIN32)
+    if (!done_) {
+      done_ = true;
+      if (WaitForSingleObject(process_.hProcess, 30000) != WAIT_OBJECT_0) TerminateProcess(process_.hProcess, 1);
+      GetExitCodeProcess(process_.hProcess, &code_);
+      CloseHandle(process_.hThread);
+      CloseHandle(process_.hProcess);
+    }
+    if (code_ == 0) return Outcome::kFinished;
+    return code_ == reproject::cli::kExitInterrupted || code_ == STATUS_CONTROL_C_EXIT ? Outcome::kInterrupted
+                                                                                        : Outcome::kFailed;
+#else
+    if (!done_) {
+      done_ = true;
+      if (::waitpid(child_, &status_, 0) != child_) return Outcome::kFailed;
+    }
+    if (WIFSIGNALED(status_)) return Outcome::kInterrupted;
+    return WIFEXITED(status_) && WEXITSTATUS(status_) == 0 ? Outcome::kFinished : Outcome::kFailed;
+#endif
+  }
+
+ private:
+  bool started_ = false, done_ = false;
+#if defined(_WIN32)
+  PROCESS_INFORMATION process_ = {};
+  DWORD code_ = 0;
+#else
+  pid_t child_ = -1;
+  int status_ = 0;
+#endif
+};
+
+// Row 6: SIGINT, SIGTERM and SIGHUP (Windows: Ctrl-C) at any moment of a run leave no temporary file.
 TEST(CliSafety, SignalsLeaveNoTemporaryFiles) {
   const CliRun scene = run("scene --scene room --width 1920 --height 1080 --out-dir big");
   ASSERT_EQ(scene.code, 0) << scene.err;
@@ -1512,62 +1602,49 @@ TEST(CliSafety, SignalsLeaveNoTemporaryFiles) {
                            "s.png", "--source-x", "x.exr", "--threads", "1"}) {
     words.push_back(word);
   }
+  const auto is_output = [](const std::string& name) {
+    return name == "o.png" || name == "o.pfm" || name == "s.png" || name == "x.exr";
+  };
+  const auto only_outputs_left = [&](const std::string& when) {
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(is_output(name)) << name << " left after " << when;
+    }
+  };
+  const auto writing = [&] {  // a file other than the outputs: a temporary one
+    std::error_code error;
+    for (fs::directory_iterator it(dir, error), end; !error && it != end; it.increment(error)) {
+      if (!is_output(it->path().filename().string())) return true;
+    }
+    return false;
+  };
 #if defined(_WIN32)
-  // Windows' counterpart: Ctrl-C at any moment (a console control event; the tool's handler stops
-  // the running call through Options::cancel and the command unwinds, or ends it after 3 s),
-  // sent to the tool in a console of its own. An interrupted run exits with 130.
-  std::wstring command;
-  for (const std::string& word : words) command += rptest::quote_argument(rptest::wide(word)) + L" ";
-  int killed = 0;
-  for (int delay_ms = 100; delay_ms <= 1000; delay_ms += 75) {
-    PROCESS_INFORMATION child = {};
-    ASSERT_TRUE(rptest::start_process(command, dir.wstring(), nullptr, nullptr, true, &child));
-    Sleep(static_cast<DWORD>(delay_ms));
-    rptest::send_ctrl_c(child.dwProcessId);  // false when the run had already ended
-    ASSERT_EQ(WaitForSingleObject(child.hProcess, 30000), WAIT_OBJECT_0) << "the tool did not stop";
-    DWORD code = 0;
-    GetExitCodeProcess(child.hProcess, &code);
-    CloseHandle(child.hThread);
-    CloseHandle(child.hProcess);
-    if (code == reproject::cli::kExitInterrupted || code == STATUS_CONTROL_C_EXIT) ++killed;
-    EXPECT_TRUE(code == 0 || code == reproject::cli::kExitInterrupted || code == STATUS_CONTROL_C_EXIT) << code;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      const std::string name = entry.path().filename().string();
-      EXPECT_TRUE(name == "o.png" || name == "o.pfm" || name == "s.png" || name == "x.exr")
-          << name << " left after Ctrl-C at " << delay_ms << " ms";
-    }
-  }
-  EXPECT_GT(killed, 0) << "no run was still going when its Ctrl-C came: lengthen the runs";
+  const int signals[] = {SIGINT, SIGINT, SIGINT};  // Ctrl-C each time
 #else
-  std::vector<char*> argv;
-  for (std::string& word : words) argv.push_back(word.data());
-  argv.push_back(nullptr);
-  int killed = 0;
   const int signals[] = {SIGINT, SIGTERM, SIGHUP};
-  for (int delay_ms = 100, i = 0; delay_ms <= 1000; delay_ms += 50, ++i) {
-    const int signal_number = signals[i % 3];
-    const pid_t child = ::fork();
-    ASSERT_GE(child, 0);
-    if (child == 0) {
-      if (::chdir(dir.c_str()) != 0) _exit(125);
-      std::freopen("/dev/null", "w", stdout);
-      std::freopen("/dev/null", "w", stderr);
-      ::execvp(argv[0], argv.data());
-      _exit(126);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
-    ::kill(child, signal_number);
-    int status = 0;
-    ASSERT_EQ(::waitpid(child, &status, 0), child);
-    if (WIFSIGNALED(status)) ++killed;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      const std::string name = entry.path().filename().string();
-      EXPECT_TRUE(name == "o.png" || name == "o.pfm" || name == "s.png" || name == "x.exr")
-          << name << " left after signal " << signal_number << " at " << delay_ms << " ms";
-    }
-  }
-  EXPECT_GT(killed, 0) << "no run was still going when its signal came: lengthen the runs";
 #endif
+  // Moments counted from the start: from the process's start-up to after its end. A run may
+  // finish first, or (under Wine) lose a Ctrl-C that comes before its console is ready.
+  for (int delay_ms = 100, i = 0; delay_ms <= 1000; delay_ms += 75, ++i) {
+    InterruptedRun child(words, dir);
+    ASSERT_TRUE(child.started());
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    child.interrupt(signals[i % 3]);
+    EXPECT_NE(child.wait(), InterruptedRun::Outcome::kFailed) << "signal " << signals[i % 3] << " at " << delay_ms << " ms";
+    only_outputs_left("signal " + std::to_string(signals[i % 3]) + " at " + std::to_string(delay_ms) + " ms");
+  }
+  // The moment the first output's temporary file appears, whatever the machine's speed: each of
+  // these runs must end interrupted (the interruption is sent again every 20 ms until the run
+  // ends, in case one comes too early to be handled).
+  for (int signal_number : signals) {
+    InterruptedRun child(words, dir);
+    ASSERT_TRUE(child.started());
+    while (child.running() && !writing()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ASSERT_TRUE(child.running()) << "the run ended before its first temporary file was seen";
+    for (; child.running(); std::this_thread::sleep_for(std::chrono::milliseconds(20))) child.interrupt(signal_number);
+    EXPECT_EQ(child.wait(), InterruptedRun::Outcome::kInterrupted) << "signal " << signal_number << " while writing";
+    only_outputs_left("signal " + std::to_string(signal_number) + " while writing");
+  }
 }
 
 // Row 3: a file cut short fails as truncated without allocating what its header promises.
