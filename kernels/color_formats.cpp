@@ -30,6 +30,9 @@ float srgb_threshold(int k) {
 SrgbTables build_srgb_tables() {
   SrgbTables t{};
   for (int byte = 0; byte < 256; ++byte) t.to_linear[byte] = static_cast<float>(srgb_decode_exact(byte / 255.0));
+  for (int e = kSrgbLowestScaleExponent; e <= 0; ++e) {
+    t.encode_scale[e - kSrgbLowestScaleExponent] = static_cast<float>(255.0 * 1.055 * std::pow(2.0, 5.0 * e / 12.0));
+  }
   float threshold[257];
   for (int k = 1; k < 256; ++k) threshold[k] = srgb_threshold(k);
   threshold[256] = 2.0f;  // beyond every clamped value

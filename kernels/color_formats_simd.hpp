@@ -13,6 +13,47 @@
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
+// srgb_encode in every lane: the byte whose sRGB value is nearest to each linear value. The table
+// path is the scalar encoder's, with one gather of the bucket words. On sets whose vector holds
+// the ten scales (AVX-512's sixteen lanes) the bytes are first estimated without a gather
+// (kernels/color_formats.hpp kSrgbPolynomial), and the estimate stands when every lane is clear
+// of a rounding boundary: a sixteen-lane gather costs more than the polynomial there, an
+// eight-lane one less (docs/PERFORMANCE.md "Measured design choices").
+template <class Arch>
+constexpr bool srgb_encode_estimates() {
+  return Lanes<Arch>::size >= 16 && has_permute<Arch>();
+}
+template <class Arch, class Fma>
+REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables& tables,
+                                                                const xsimd::batch<float, Arch>& linear) {
+  REPROJECT_LANE_TYPES(Arch);
+  const F lowest(float_of_bits(kSrgbFirstBucket << kSrgbBucketShift));
+  F l = xsimd::select(linear > lowest, linear, lowest);  // NaN too
+  l = xsimd::select(l < F(1.0f), l, F(1.0f));
+  const I bits = bits_of<Arch>(l);
+  if constexpr (srgb_encode_estimates<Arch>()) {
+    // l = m 2^e: m - 1 from the mantissa bits, e + 9 (at least 0) from the exponent's.
+    const F t = float_bits<Arch>((bits & I(0x7fffff)) | I(0x3f800000)) - F(1.0f);
+    F power(kSrgbPolynomial[0]);
+    for (int k = 1; k < 7; ++k) power = vmadd<Fma>(power, t, F(kSrgbPolynomial[k]));
+    const I scale_index = (bits >> 23) - I(127 + kSrgbLowestScaleExponent);
+    LaneIndex<Arch> lanes;
+    index_for_permute<Arch>(lanes, xsimd::select(scale_index > I(0), scale_index, I(0)));
+    const F scale = permute<Arch>(F::load_aligned(tables.encode_scale), lanes);
+    F estimate = vmadd<Fma>(power, scale, F(static_cast<float>(-255 * 0.055)));
+    estimate = xsimd::select(l <= F(kSrgbLinearEnd), l * F(static_cast<float>(255 * 12.92)), estimate);
+    const F half_up = estimate + F(0.5f);
+    const I code = xsimd::to_int(half_up);
+    const F past = half_up - xsimd::to_float(code);  // exact: where half_up lies between code and code + 1
+    if (!xsimd::any((past < F(kSrgbEstimateMargin)) | (past > F(1.0f - kSrgbEstimateMargin)))) return code;
+  }
+  // The bucket's byte, plus one at or beyond its threshold: (low - step) >> 31 is -1 below it.
+  const I word = bits_of<Arch>(gather<Arch>(reinterpret_cast<const float*>(tables.bucket),
+                                            (bits >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket))));
+  const I below = ((bits & I(static_cast<std::int32_t>(kSrgbLowMask))) - (word & I(kSrgbStepMask))) >> 31;
+  return (word >> kSrgbStepBits) + I(1) + below;
+}
+
 // rgba8 / rgba8_srgb: L pixels' words blended (scalar twin: ColorRow::write). The bytes of rgba8
 // (and rgba8_srgb's alpha) in fixed point, every channel of every pixel at once (the arch layer's
 // blend_rgba8_q15: the same integers as blend_u8_q15, so every set stores the same bytes);
@@ -43,17 +84,7 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
       } else {
         l0 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w0));
       }
-      const F linear = vmadd<Fma>(frac, l1 - l0, l0);
-      // srgb_encode: the bucket's byte, plus one at or beyond its threshold.
-      const F lowest(float_of_bits(kSrgbFirstBucket << kSrgbBucketShift));
-      F l = xsimd::select(linear > lowest, linear, lowest);
-      l = xsimd::select(l < F(1.0f), l, F(1.0f));
-      const I bits = bits_of<Arch>(l);
-      const I word = bits_of<Arch>(gather<Arch>(reinterpret_cast<const float*>(f.srgb->bucket),
-                                                (bits >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket))));
-      // One more at or beyond the step: (low - step) >> 31 is -1 below it, 0 at or beyond.
-      const I below = ((bits & I(static_cast<std::int32_t>(kSrgbLowMask))) - (word & I(kSrgbStepMask))) >> 31;
-      out = out | (((word >> kSrgbStepBits) + I(1) + below) << (8 * c));
+      out = out | (srgb_encode_lanes<Arch, Fma>(*f.srgb, vmadd<Fma>(frac, l1 - l0, l0)) << (8 * c));
     };
     channel(std::integral_constant<int, 0>{});
     channel(std::integral_constant<int, 1>{});

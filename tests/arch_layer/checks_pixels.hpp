@@ -4,6 +4,7 @@
 // every code's rounding boundaries the other.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "kernels/codes.hpp"
+#include "kernels/color_formats_simd.hpp"
 #include "kernels/simd.hpp"
 #include "tests/arch_layer/sets.hpp"
 #include "tests/arch_layer/values.hpp"
@@ -148,6 +150,52 @@ Outcome check_blend_rgba8_q15() {
     }
   }
   if (!(worst < 1.0)) out.fail("the largest distance from the exact blend is " + std::to_string(worst) + " codes");
+  return out;
+}
+
+// The colour twins' sRGB encoder (kernels/color_formats_simd.hpp srgb_encode_lanes; not an arch
+// layer primitive, but per set like one): every lane the scalar encoder's byte. Where the set
+// estimates the byte (AVX-512), for every float from the first bucket's to 1, twice: consecutive
+// floats in the lanes, then lanes drawn from far apart so that a vector mixes lanes near and
+// away from a rounding boundary; elsewhere (the scalar encoder's table) every 61st float. Then
+// zeros, negatives, values above 1, infinities, NaN and subnormals.
+template <class Arch, class Fma>
+Outcome check_srgb_encode() {
+  Outcome out;
+  using V = Vec<Arch>;
+  constexpr int L = V::L;
+  const detail::SrgbTables& tables = detail::srgb_tables();
+  std::uint32_t lanes[L];
+  std::int32_t got[L];
+  auto compare = [&](const char* what) {
+    V::ints_out(detail::srgb_encode_lanes<Arch, Fma>(tables, V::floats(lanes)), got);
+    for (int i = 0; i < L; ++i) {
+      const int want = detail::srgb_encode(tables, value_of_bits(lanes[i]));
+      ++out.lanes;
+      if (got[i] != want) {
+        out.fail(lane_text(i) + what + " srgb_encode(" + show(lanes[i]) + ") = " + std::to_string(got[i]) + ", scalar " +
+                 std::to_string(want));
+      }
+    }
+  };
+  const std::uint32_t first = detail::kSrgbFirstBucket << detail::kSrgbBucketShift, last = 0x3f800000u;  // 1.0f
+  const std::uint32_t count = last - first + 1;
+  const std::uint32_t stride = detail::srgb_encode_estimates<Arch>() ? 1 : 61;
+  for (std::uint32_t k = 0; k < count; k += stride * L) {
+    for (int i = 0; i < L; ++i) lanes[i] = first + std::min(count - 1, k + stride * static_cast<std::uint32_t>(i));
+    compare("consecutive");
+  }
+  for (std::uint32_t k = 0; k < count; k += stride * L) {
+    for (int i = 0; i < L; ++i) {
+      const std::uint64_t index = k / L + static_cast<std::uint64_t>(i) * 6700417u * stride;
+      lanes[i] = first + static_cast<std::uint32_t>(index % count);
+    }
+    compare("mixed");
+  }
+  for (std::size_t k = 0; k < special_values().size(); k += L) {
+    for (int i = 0; i < L; ++i) lanes[i] = special_at(k + static_cast<std::size_t>(i));
+    compare("special");
+  }
   return out;
 }
 
