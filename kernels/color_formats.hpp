@@ -38,7 +38,7 @@ constexpr float kSrgbLinearEnd = 0.0031308f;
 constexpr float kSrgbEstimateMargin = 0x1p-13f;  // 1.2e-4 codes
 constexpr int kSrgbLowestScaleExponent = -9;     // 2^-9 <= kSrgbLinearEnd < 2^-8
 struct SrgbTables {
-  float to_linear[256];              // the exact linear value of each byte, rounded to float
+  alignas(64) float to_linear[256];  // the exact linear value of each byte, rounded to float
   std::int32_t bucket[kSrgbBuckets];  // byte << kSrgbStepBits | the next byte's step (see above)
   alignas(64) float encode_scale[16];  // [e + 9]: 255 * 1.055 * 2^(5e/12) for e in [-9, 0]; then 0
 };

@@ -13,16 +13,19 @@
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// srgb_encode in every lane: the byte whose sRGB value is nearest to each linear value. The table
-// path is the scalar encoder's, with one gather of the bucket words. On sets whose vector holds
-// the ten scales (AVX-512's sixteen lanes) the bytes are first estimated without a gather
-// (kernels/color_formats.hpp kSrgbPolynomial), and the estimate stands when every lane is clear
-// of a rounding boundary: a sixteen-lane gather costs more than the polynomial there, an
-// eight-lane one less (docs/PERFORMANCE.md "Measured design choices").
+// Sets whose vector has sixteen lanes and permutes (AVX-512) decode and encode sRGB without
+// gathers (srgb_decode_lanes, srgb_encode_lanes): measured faster there, slower on AVX2's eight
+// lanes (docs/PERFORMANCE.md "Measured design choices").
 template <class Arch>
-constexpr bool srgb_encode_estimates() {
+constexpr bool srgb_without_gathers() {
   return Lanes<Arch>::size >= 16 && has_permute<Arch>();
 }
+
+// srgb_encode in every lane: the byte whose sRGB value is nearest to each linear value. The table
+// path is the scalar encoder's, with one gather of the bucket words. Where srgb_without_gathers,
+// the bytes are first estimated without a gather (kernels/color_formats.hpp kSrgbPolynomial),
+// and the estimate stands when every lane is clear of a rounding boundary (else the vector takes
+// the table).
 template <class Arch, class Fma>
 REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables& tables,
                                                                 const xsimd::batch<float, Arch>& linear) {
@@ -31,7 +34,7 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables
   F l = xsimd::select(linear > lowest, linear, lowest);  // NaN too
   l = xsimd::select(l < F(1.0f), l, F(1.0f));
   const I bits = bits_of<Arch>(l);
-  if constexpr (srgb_encode_estimates<Arch>()) {
+  if constexpr (srgb_without_gathers<Arch>()) {
     // l = m 2^e: m - 1 from the mantissa bits, e + 9 (at least 0) from the exponent's.
     const F t = float_bits<Arch>((bits & I(0x7fffff)) | I(0x3f800000)) - F(1.0f);
     F power(kSrgbPolynomial[0]);
@@ -52,6 +55,31 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables
                                             (bits >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket))));
   const I below = ((bits & I(static_cast<std::int32_t>(kSrgbLowMask))) - (word & I(kSrgbStepMask))) >> 31;
   return (word >> kSrgbStepBits) + I(1) + below;
+}
+
+// The linear value of each lane's byte (0..255), bit for bit tables.to_linear[byte].
+// Where a vector has sixteen lanes, the 256 entries are sixteen registers and a lane's entry is
+// picked by eight two-register permutes (the byte's low five bits) and a tree of selects on its
+// bits 5, 6 and 7, cheaper there than a sixteen-lane gather; elsewhere a gather.
+template <class Arch>
+REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> srgb_decode_lanes(const SrgbTables& tables,
+                                                                           const IntLanes<Arch>& bytes) {
+  REPROJECT_LANE_TYPES(Arch);
+  if constexpr (srgb_without_gathers<Arch>()) {
+    LaneIndex<Arch> lanes;
+    index_for_two_registers<Arch>(lanes, bytes & I(31));
+    I part[8];  // part[k]: entry 32 k + (byte & 31)
+    for (int k = 0; k < 8; ++k) {
+      part[k] = bits_of<Arch>(permute_two_registers<Arch>(F::load_aligned(tables.to_linear + 32 * k),
+                                                          F::load_aligned(tables.to_linear + 32 * k + 16), lanes));
+    }
+    const auto bit5 = (bytes & I(32)) != I(0), bit6 = (bytes & I(64)) != I(0), bit7 = (bytes & I(128)) != I(0);
+    const I low = xsimd::select(bit6, xsimd::select(bit5, part[3], part[2]), xsimd::select(bit5, part[1], part[0]));
+    const I high = xsimd::select(bit6, xsimd::select(bit5, part[7], part[6]), xsimd::select(bit5, part[5], part[4]));
+    return float_bits<Arch>(xsimd::select(bit7, high, low));
+  } else {
+    return gather<Arch>(tables.to_linear, bytes);
+  }
 }
 
 // rgba8 / rgba8_srgb: L pixels' words blended (scalar twin: ColorRow::write). The bytes of rgba8
@@ -77,12 +105,12 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
     if constexpr (Consecutive) first_word = bits_of_float(first_lane<Arch>(float_bits<Arch>(w0)));
     auto channel = [&](auto c_tag) {
       constexpr int c = decltype(c_tag)::value;
-      const F l1 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w1));
+      const F l1 = srgb_decode_lanes<Arch>(*f.srgb, byte_lanes<c, Arch>(w1));
       F l0;
       if constexpr (Consecutive) {
         l0 = shift_in_first<Arch>(l1, f.srgb->to_linear[(first_word >> (8 * c)) & 0xffu]);
       } else {
-        l0 = gather<Arch>(f.srgb->to_linear, byte_lanes<c, Arch>(w0));
+        l0 = srgb_decode_lanes<Arch>(*f.srgb, byte_lanes<c, Arch>(w0));
       }
       out = out | (srgb_encode_lanes<Arch, Fma>(*f.srgb, vmadd<Fma>(frac, l1 - l0, l0)) << (8 * c));
     };

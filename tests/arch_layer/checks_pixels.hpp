@@ -153,6 +153,33 @@ Outcome check_blend_rgba8_q15() {
   return out;
 }
 
+// The colour twins' sRGB decoder (kernels/color_formats_simd.hpp srgb_decode_lanes): every byte
+// in every lane, beside every other byte, bit for bit the table's value.
+template <class Arch>
+Outcome check_srgb_decode() {
+  Outcome out;
+  using V = Vec<Arch>;
+  constexpr int L = V::L;
+  const detail::SrgbTables& tables = detail::srgb_tables();
+  std::int32_t bytes[L];
+  std::uint32_t got[L];
+  for (int step = 1; step < 256; step += 2) {  // odd steps: every byte in every lane
+    for (int first = 0; first < 256; ++first) {
+      for (int i = 0; i < L; ++i) bytes[i] = (first + step * i) % 256;
+      V::bits(detail::srgb_decode_lanes<Arch>(tables, V::ints(bytes)), got);
+      for (int i = 0; i < L; ++i) {
+        std::uint32_t want = 0;
+        std::memcpy(&want, &tables.to_linear[bytes[i]], 4);
+        ++out.lanes;
+        if (got[i] != want) {
+          out.fail(lane_text(i) + "srgb_decode(" + std::to_string(bytes[i]) + ") = " + show(got[i]) + ", table " + show(want));
+        }
+      }
+    }
+  }
+  return out;
+}
+
 // The colour twins' sRGB encoder (kernels/color_formats_simd.hpp srgb_encode_lanes; not an arch
 // layer primitive, but per set like one): every lane the scalar encoder's byte. Where the set
 // estimates the byte (AVX-512), for every float from the first bucket's to 1, twice: consecutive
@@ -180,7 +207,7 @@ Outcome check_srgb_encode() {
   };
   const std::uint32_t first = detail::kSrgbFirstBucket << detail::kSrgbBucketShift, last = 0x3f800000u;  // 1.0f
   const std::uint32_t count = last - first + 1;
-  const std::uint32_t stride = detail::srgb_encode_estimates<Arch>() ? 1 : 61;
+  const std::uint32_t stride = detail::srgb_without_gathers<Arch>() ? 1 : 61;
   for (std::uint32_t k = 0; k < count; k += stride * L) {
     for (int i = 0; i < L; ++i) lanes[i] = first + std::min(count - 1, k + stride * static_cast<std::uint32_t>(i));
     compare("consecutive");

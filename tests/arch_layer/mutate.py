@@ -4,7 +4,7 @@
 Each mutation breaks one primitive of one family file (kernels/simd_x86.hpp or
 kernels/simd_neon.hpp) the way a port or a newer xsimd could: operand order in vmin, the zero a
 reduction keeps, ties in rounding, one lane too many in a partial store, and so on (and the
-colour twins' sRGB encoder, kernels/color_formats.hpp, checked per set like a primitive). For each, the
+colour twins' sRGB decoder and encoder, kernels/color_formats*.hpp, checked per set like primitives). For each, the
 file is edited, reproject_tests is rebuilt in BUILD, the ArchLayer suite runs, and the mutation
 counts as caught only if the test named after that primitive fails. The file is restored after
 every mutation, whatever happens.
@@ -39,8 +39,11 @@ X86 = [
     ("byte_lanes", "simd_x86_avx2.hpp", "if constexpr (Byte == 3) return _mm256_srli_epi32(w, 24);",
      "if constexpr (Byte == 3) return _mm256_srli_epi32(w, 23);"),
     ("gather", "simd_x86_avx2.hpp", "_mm256_i32gather_ps(base, index, 4)", "_mm256_i32gather_ps(base + 1, index, 4)"),
-    # The sRGB encoder's estimate (AVX-512): no margin round a rounding boundary; a coefficient
-    # 4e-6 off (1e-3 codes at the top).
+    # The sRGB decoder (AVX-512): two parts swapped; an index of four bits. Its encoder's estimate:
+    # no margin round a rounding boundary; a coefficient 4e-6 off (1e-3 codes at the top).
+    ("srgb_decode", "color_formats_simd.hpp", "xsimd::select(bit5, part[7], part[6])", "xsimd::select(bit5, part[6], part[7])"),
+    ("srgb_decode", "color_formats_simd.hpp", "index_for_two_registers<Arch>(lanes, bytes & I(31));",
+     "index_for_two_registers<Arch>(lanes, bytes & I(15));"),
     ("srgb_encode", "color_formats.hpp", "kSrgbEstimateMargin = 0x1p-13f;", "kSrgbEstimateMargin = 0x1p-24f;"),
     ("srgb_encode", "color_formats.hpp", "0x1.aaa4e4p-2f, 0x1.000004p+0f}", "0x1.aaa4e4p-2f, 0x1.000040p+0f}"),
     ("lane_extreme", "simd_x86.hpp", "lane_extreme_key<Max>(total_order_key(bits_of<Arch>(v)))",
