@@ -31,7 +31,7 @@ constexpr int kSrgbBuckets = static_cast<int>(kSrgbLastBucket - kSrgbFirstBucket
 // within 7.5e-5 of 255 encode(l) for every float in [kSrgbFirstBucket's, 1]: a lane whose
 // estimate + 1/2 is at least kSrgbEstimateMargin from an integer therefore rounds to the exact
 // byte; a vector with any other lane takes the table (the same bytes either way; the test
-// EverySet/ArchLayer.srgb_encode compares every float of that range on every set).
+// EverySet/ArchLayer.srgb_encode compares every float of that range where the set estimates).
 constexpr float kSrgbPolynomial[7] = {-0x1.67bafcp-9f, 0x1.b96a5cp-7f, -0x1.0e6ce2p-5f, 0x1.f8ddf4p-5f,
                                       -0x1.f03aecp-4f, 0x1.aaa4e4p-2f, 0x1.000004p+0f};  // highest power first
 constexpr float kSrgbLinearEnd = 0.0031308f;
