@@ -52,8 +52,11 @@ namespace {  // one copy per translation unit (kernels/fma.hpp)
 
 // rgba8_srgb: the byte whose sRGB value is nearest to a linear value (reproject::formats).
 inline std::uint8_t srgb_encode(const SrgbTables& tables, float linear) noexcept {
+  // NaN first, on its own: clang for AArch64 folds the clamp below into fmaxnm, which turns a
+  // signalling NaN into a quiet one instead of `lowest` (then clamped to 1: byte 255).
+  if (linear != linear) return 0;
   const float lowest = float_of_bits(kSrgbFirstBucket << kSrgbBucketShift);
-  float l = linear > lowest ? linear : lowest;  // NaN too
+  float l = linear > lowest ? linear : lowest;
   l = l < 1.0f ? l : 1.0f;
   const std::uint32_t bits = bits_of_float(l);
   const std::int32_t word = tables.bucket[(bits >> kSrgbBucketShift) - kSrgbFirstBucket];

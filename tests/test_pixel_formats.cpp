@@ -250,7 +250,13 @@ TEST(PixelFormats, SrgbAgainstDoublePrecision) {
   }
   EXPECT_EQ(formats::linear_to_srgb(-0.5f), 0);
   EXPECT_EQ(formats::linear_to_srgb(7.0f), 255);
-  EXPECT_EQ(formats::linear_to_srgb(std::numeric_limits<float>::quiet_NaN()), 0);
+  // Every NaN is 0: quiet and signalling, either sign (clang for AArch64 once quieted a
+  // signalling NaN into the clamp's other end, 255: kernels/color_formats.hpp).
+  for (const std::uint32_t nan : {0x7fc00000u, 0xffc00000u, 0x7f800001u, 0xff812345u, 0x7fbfffffu}) {
+    EXPECT_EQ(formats::linear_to_srgb(bits_float(nan)), 0) << std::hex << nan;
+    EXPECT_EQ(formats::float_to_unorm(bits_float(nan), 8), 0u) << std::hex << nan;
+    EXPECT_EQ(formats::float_to_unorm(bits_float(nan), 24), 0u) << std::hex << nan;
+  }
   // Blending: the library's rule (the bytes' linear floats blended in float, then encoded)
   // against the same blend in double: equal but where the float blend lands within rounding of
   // a byte boundary.
