@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -39,6 +40,15 @@ struct Frame {
   std::vector<float> depth, color;
 };
 
+// A signalling NaN of either sign with a payload that varies with k: the kernels carry it (quieted)
+// exactly as their scalar references do.
+float signalling_nan(unsigned k) {
+  const std::uint32_t bits = (k % 2 ? 0xff800000u : 0x7f800000u) | (1u + (k * 2654435761u) % 0x3fffffu);
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
 Frame make_frame(std::mt19937& rng, const Case& c, const DepthDecoder& decoder) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   Frame frame;
@@ -59,10 +69,16 @@ Frame make_frame(std::mt19937& rng, const Case& c, const DepthDecoder& decoder) 
       for (int k = 0; k < length && x < c.width; ++k, ++x) {
         float d = decoder.encode(std::max(1.05, z0 + slope * k));
         const float roll = unit(rng);
-        if (roll < 0.01f) d = std::numeric_limits<float>::quiet_NaN();
+        float* stored = &frame.depth[1 + y * frame.stride + x];
+        if (roll < 0.01f) {
+          d = roll < 0.005f ? std::numeric_limits<float>::quiet_NaN() : signalling_nan(static_cast<unsigned>(y * c.width + x));
+          // Two different NaNs side by side would make an interpolation between them pick one,
+          // and which one is not specified (docs/BEHAVIOUR.md, "NaNs"): a NaN next to a NaN repeats it.
+          if (x > 0 && std::isnan(stored[-1])) d = stored[-1];
+        }
         else if (roll < 0.015f) d = std::numeric_limits<float>::infinity();
         else if (roll < 0.02f) d = -1.0f;
-        frame.depth[1 + y * frame.stride + x] = d;
+        *stored = d;
       }
     }
   }
