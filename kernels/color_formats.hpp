@@ -35,6 +35,8 @@ constexpr int kSrgbBuckets = static_cast<int>(kSrgbLastBucket - kSrgbFirstBucket
 constexpr float kSrgbPolynomial[7] = {-0x1.67bafcp-9f, 0x1.b96a5cp-7f, -0x1.0e6ce2p-5f, 0x1.f8ddf4p-5f,
                                       -0x1.f03aecp-4f, 0x1.aaa4e4p-2f, 0x1.000004p+0f};  // highest power first
 constexpr float kSrgbLinearEnd = 0.0031308f;
+constexpr float kSrgbOffsetCodes = static_cast<float>(255 * 0.055);  // the power part's - 0.055, in codes
+constexpr float kSrgbSlopeCodes = static_cast<float>(255 * 12.92);   // the linear part's slope, in codes
 constexpr float kSrgbEstimateMargin = 0x1p-13f;  // 1.2e-4 codes
 constexpr int kSrgbLowestScaleExponent = -9;     // 2^-9 <= kSrgbLinearEnd < 2^-8
 struct SrgbTables {

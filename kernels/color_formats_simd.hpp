@@ -43,8 +43,8 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables
     LaneIndex<Arch> lanes;
     index_for_permute<Arch>(lanes, xsimd::select(scale_index > I(0), scale_index, I(0)));
     const F scale = permute<Arch>(F::load_aligned(tables.encode_scale), lanes);
-    F estimate = vmadd<Fma>(power, scale, F(static_cast<float>(-255 * 0.055)));
-    estimate = xsimd::select(l <= F(kSrgbLinearEnd), l * F(static_cast<float>(255 * 12.92)), estimate);
+    F estimate = vmadd<Fma>(power, scale, F(-kSrgbOffsetCodes));
+    estimate = xsimd::select(l <= F(kSrgbLinearEnd), l * F(kSrgbSlopeCodes), estimate);
     const F half_up = estimate + F(0.5f);
     const I code = xsimd::to_int(half_up);
     const F past = half_up - xsimd::to_float(code);  // exact: where half_up lies between code and code + 1
