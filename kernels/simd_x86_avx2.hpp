@@ -40,12 +40,14 @@ struct X86Set<xsimd::fma3<xsimd::avx2>> {
     auto op = [](__m128i x, __m128i y) { return Max ? _mm_max_epi32(x, y) : _mm_min_epi32(x, y); };
     return X86Set<xsimd::sse4_1>::lane_extreme_key<Max>(op(_mm256_castsi256_si128(k), _mm256_extracti128_si256(k, 1)));
   }
+  // A constant whose every 128-bit part holds the words a, b, c, d (folded to one constant load;
+  // a 128-bit constant broadcast is rebuilt in the loop by GCC 12).
+  static __m256i each_128_bits(int a, int b, int c, int d) { return _mm256_setr_epi32(a, b, c, d, a, b, c, d); }
   template <int Byte>
   static I byte_lanes(const I& w) {
     if constexpr (Byte == 3) return _mm256_srli_epi32(w, 24);
-    constexpr char z = -128;
-    const __m128i pick = _mm_setr_epi8(Byte, z, z, z, Byte + 4, z, z, z, Byte + 8, z, z, z, Byte + 12, z, z, z);
-    return _mm256_shuffle_epi8(w, _mm256_broadcastsi128_si256(pick));
+    constexpr int z = static_cast<int>(0x80808000u);  // the byte, then three zeroed bytes
+    return _mm256_shuffle_epi8(w, each_128_bits(z | Byte, z | (Byte + 4), z | (Byte + 8), z | (Byte + 12)));
   }
   static float first_lane(const F& v) { return _mm256_cvtss_f32(v); }
   static F shift_in_first(const F& v, __m128 first) {
@@ -54,8 +56,9 @@ struct X86Set<xsimd::fma3<xsimd::avx2>> {
   }
   static I blend_rgba8_q15(const I& c0, const I& c1, const I& weight) {  // as SSE4.1's, per 128-bit lane
     const __m256i zero = _mm256_setzero_si256();
-    const __m256i first = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 1, 0, 1, 0, 1, 0, 1, 4, 5, 4, 5, 4, 5, 4, 5));
-    const __m256i second = _mm256_broadcastsi128_si256(_mm_setr_epi8(8, 9, 8, 9, 8, 9, 8, 9, 12, 13, 12, 13, 12, 13, 12, 13));
+    // Each pixel's weight (bytes 0-1 of its lane) beside each of its four 16-bit channels.
+    const __m256i first = each_128_bits(0x01000100, 0x01000100, 0x05040504, 0x05040504);
+    const __m256i second = each_128_bits(0x09080908, 0x09080908, 0x0d0c0d0c, 0x0d0c0d0c);
     const __m256i a0 = _mm256_unpacklo_epi8(c0, zero), a1 = _mm256_unpackhi_epi8(c0, zero);
     const __m256i d0 = _mm256_sub_epi16(_mm256_unpacklo_epi8(c1, zero), a0);
     const __m256i d1 = _mm256_sub_epi16(_mm256_unpackhi_epi8(c1, zero), a1);

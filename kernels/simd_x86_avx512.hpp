@@ -37,12 +37,14 @@ struct X86Set<xsimd::avx512bw> {
   static std::int32_t lane_extreme_key(__m512i k) {
     return Max ? _mm512_reduce_max_epi32(k) : _mm512_reduce_min_epi32(k);
   }
+  // A constant whose every 128-bit part holds the words a, b, c, d (folded to one constant load;
+  // a 128-bit constant broadcast is rebuilt in the loop by GCC 12).
+  static __m512i each_128_bits(int a, int b, int c, int d) { return _mm512_setr4_epi32(a, b, c, d); }
   template <int Byte>
   static I byte_lanes(const I& w) {
     if constexpr (Byte == 3) return _mm512_srli_epi32(w, 24);
-    constexpr char z = -128;
-    const __m128i pick = _mm_setr_epi8(Byte, z, z, z, Byte + 4, z, z, z, Byte + 8, z, z, z, Byte + 12, z, z, z);
-    return _mm512_shuffle_epi8(w, _mm512_broadcast_i32x4(pick));
+    constexpr int z = static_cast<int>(0x80808000u);  // the byte, then three zeroed bytes
+    return _mm512_shuffle_epi8(w, each_128_bits(z | Byte, z | (Byte + 4), z | (Byte + 8), z | (Byte + 12)));
   }
   static float first_lane(const F& v) { return _mm512_cvtss_f32(v); }
   static F shift_in_first(const F& v, __m128 first) {  // lane 15 of `first`'s broadcast, then v's 0..14
@@ -51,8 +53,9 @@ struct X86Set<xsimd::avx512bw> {
   }
   static I blend_rgba8_q15(const I& c0, const I& c1, const I& weight) {  // as SSE4.1's, per 128-bit lane
     const __m512i zero = _mm512_setzero_si512();
-    const __m512i first = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 1, 0, 1, 0, 1, 0, 1, 4, 5, 4, 5, 4, 5, 4, 5));
-    const __m512i second = _mm512_broadcast_i32x4(_mm_setr_epi8(8, 9, 8, 9, 8, 9, 8, 9, 12, 13, 12, 13, 12, 13, 12, 13));
+    // Each pixel's weight (bytes 0-1 of its lane) beside each of its four 16-bit channels.
+    const __m512i first = each_128_bits(0x01000100, 0x01000100, 0x05040504, 0x05040504);
+    const __m512i second = each_128_bits(0x09080908, 0x09080908, 0x0d0c0d0c, 0x0d0c0d0c);
     const __m512i a0 = _mm512_unpacklo_epi8(c0, zero), a1 = _mm512_unpackhi_epi8(c0, zero);
     const __m512i d0 = _mm512_sub_epi16(_mm512_unpacklo_epi8(c1, zero), a0);
     const __m512i d1 = _mm512_sub_epi16(_mm512_unpackhi_epi8(c1, zero), a1);
