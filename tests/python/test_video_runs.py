@@ -1,6 +1,7 @@
 # reproject.video's runs: killed and resumed, interrupted, on Dask with a worker killed, in bounded
 # memory over thousands of frames, and the scene video scored frame by frame against its truth.
 # Everything runs on this machine; the Dask cluster listens on 127.0.0.1 only.
+import json
 import os
 import pathlib
 import signal
@@ -137,6 +138,14 @@ def test_ctrl_c_stops_within_a_frame_and_leaves_nothing(clip, tmp_path):
 
 # ---- Dask ------------------------------------------------------------------------------------------
 
+def scheduler_address(path):
+    """The address in a Dask scheduler file, or None while it is missing or partly written."""
+    try:
+        return json.loads(path.read_text())["address"]
+    except (OSError, ValueError, KeyError):
+        return None
+
+
 def dask_process(*args):
     return subprocess.Popen([sys.executable, "-m", *args], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
@@ -149,9 +158,9 @@ def test_a_loopback_cluster_with_a_worker_killed_gives_the_one_process_output(cl
     processes = [dask_process("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
                               "--dashboard-address", "127.0.0.1:0", "--scheduler-file", str(scheduler_file))]
     try:
-        assert wait_for(scheduler_file.exists, 30)
-        import json
-        address = json.loads(scheduler_file.read_text())["address"]
+        # The file appears before the scheduler has finished writing it: wait for a whole one.
+        assert wait_for(lambda: scheduler_address(scheduler_file) is not None, 30)
+        address = scheduler_address(scheduler_file)
         assert address.startswith("tcp://127.0.0.1:")
         for _ in range(2):
             processes.append(dask_process("distributed.cli.dask_worker", address, "--nthreads", "1", "--no-nanny",
