@@ -6,13 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "kernels/codes.hpp"
 #include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
 #include "src/reproject_internal.hpp"
@@ -43,10 +43,7 @@ struct Frame {
 // A signalling NaN of either sign with a payload that varies with k: the kernels carry it (quieted)
 // exactly as their scalar references do.
 float signalling_nan(unsigned k) {
-  const std::uint32_t bits = (k % 2 ? 0xff800000u : 0x7f800000u) | (1u + (k * 2654435761u) % 0x3fffffu);
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
+  return detail::float_of_bits((k % 2 ? 0xff800000u : 0x7f800000u) | (1u + (k * 2654435761u) % 0x3fffffu));
 }
 
 Frame make_frame(std::mt19937& rng, const Case& c, const DepthDecoder& decoder) {
@@ -75,9 +72,11 @@ Frame make_frame(std::mt19937& rng, const Case& c, const DepthDecoder& decoder) 
           // Two different NaNs side by side would make an interpolation between them pick one,
           // and which one is not specified (docs/BEHAVIOUR.md, "NaNs"): a NaN next to a NaN repeats it.
           if (x > 0 && std::isnan(stored[-1])) d = stored[-1];
+        } else if (roll < 0.015f) {
+          d = std::numeric_limits<float>::infinity();
+        } else if (roll < 0.02f) {
+          d = -1.0f;
         }
-        else if (roll < 0.015f) d = std::numeric_limits<float>::infinity();
-        else if (roll < 0.02f) d = -1.0f;
         *stored = d;
       }
     }
