@@ -2,7 +2,11 @@
 """Same-run A/B of two reproject_bench binaries (e.g. main's and a branch's), for a change's note.
 
     python3 bench/ab.py OLD_BINARY NEW_BINARY --filter REGEX [--rounds 6] [--repetitions 3]
-                        [--min-time 0.05]
+                        [--min-time 0.05] [--old-env NAME=VALUE] [--new-env NAME=VALUE]
+
+OLD and NEW may be the same binary run in two environments, e.g. AVX-512's two sRGB lookups:
+    python3 bench/ab.py build/bench/reproject_bench build/bench/reproject_bench --filter ... \
+        --old-env REPROJECT_SRGB_LOOKUP=permutes --new-env REPROJECT_SRGB_LOOKUP=gathers
 
 The machines here are shared: a benchmark's time swings by tens of percent between consecutive
 runs, so two runs made minutes apart say little. This script runs the two binaries in alternating
@@ -27,11 +31,14 @@ import statistics
 import subprocess
 
 
-def run(binary, args):
-    """One run of a binary: {benchmark name: [real time of each repetition, ms]}."""
+def run(binary, settings, args):
+    """One run of a binary with the environment settings NAME=VALUE added: {benchmark name: [real
+    time of each repetition, ms]}."""
     command = [binary, "--benchmark_filter=" + args.filter, "--benchmark_repetitions=%d" % args.repetitions,
                "--benchmark_min_time=%g" % args.min_time, "--benchmark_format=json"]
-    report = json.loads(subprocess.run(command, capture_output=True, text=True, check=True).stdout)
+    env = dict(os.environ)
+    env.update(setting.split("=", 1) for setting in settings)
+    report = json.loads(subprocess.run(command, capture_output=True, text=True, check=True, env=env).stdout)
     times = collections.defaultdict(list)
     for entry in report["benchmarks"]:
         if entry.get("run_type") == "iteration":
@@ -47,14 +54,21 @@ def main():
     parser.add_argument("--rounds", type=int, default=6, help="alternating rounds (default 6)")
     parser.add_argument("--repetitions", type=int, default=3, help="repetitions per round (default 3)")
     parser.add_argument("--min-time", type=float, default=0.05, help="--benchmark_min_time per repetition")
+    for label in ("old", "new"):
+        parser.add_argument("--%s-env" % label, action="append", default=[], metavar="NAME=VALUE",
+                            help="an environment variable for the %s binary's runs (repeatable)" % label)
     args = parser.parse_args()
+    for setting in args.old_env + args.new_env:
+        if "=" not in setting or setting.startswith("="):
+            parser.error("--old-env/--new-env take NAME=VALUE, not %r" % setting)
 
     round_medians = {"old": collections.defaultdict(list), "new": collections.defaultdict(list)}
     fastest = {"old": {}, "new": {}}
     binaries = {"old": args.old, "new": args.new}
+    settings = {"old": args.old_env, "new": args.new_env}
     for r in range(args.rounds):
         for label in ("old", "new") if r % 2 == 0 else ("new", "old"):
-            for name, times in run(binaries[label], args).items():
+            for name, times in run(binaries[label], settings[label], args).items():
                 round_medians[label][name].append(statistics.median(times))
                 fastest[label][name] = min(fastest[label].get(name, float("inf")), min(times))
 

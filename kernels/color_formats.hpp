@@ -50,6 +50,12 @@ constexpr std::int32_t kSrgbStepMask = (1 << kSrgbStepBits) - 1;
 constexpr std::int32_t kSrgbNoStep = 1 << kSrgbBucketShift;  // above every low part: never reached
 const SrgbTables& srgb_tables();
 
+// How a SIMD set looks the sRGB tables up: gathers (every set), or, on sets with sixteen lanes
+// and permutes (AVX-512), without gathers: a permuted decode and an estimated encode
+// (kernels/color_formats_simd.hpp). The same bytes either way; which is faster depends on the
+// processor, so the choice is made at run time (KernelTable::srgb_lookup, kernels/dispatch.hpp).
+enum class SrgbLookup : unsigned char { gathers, permutes };
+
 namespace {  // one copy per translation unit (kernels/fma.hpp)
 
 // rgba8_srgb: the byte whose sRGB value is nearest to a linear value (reproject::formats).

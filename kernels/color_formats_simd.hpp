@@ -4,6 +4,8 @@
 // kernels/resolve_simd.hpp.
 #pragma once
 
+#include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <type_traits>
 
@@ -13,20 +15,22 @@
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// Sets whose vector has sixteen lanes and permutes (AVX-512) decode and encode sRGB without
-// gathers (srgb_decode_lanes, srgb_encode_lanes): measured faster there, slower on AVX2's eight
-// lanes (docs/PERFORMANCE.md "Measured design choices").
+// Sets whose vector has sixteen lanes and permutes (AVX-512) can also decode and encode sRGB
+// without gathers (SrgbLookup::permutes in srgb_decode_lanes, srgb_encode_lanes). Faster than
+// their gathers on one processor, slower on another (docs/PERFORMANCE.md "Measured design
+// choices"), so such a set's table times both once (faster_srgb_lookup). AVX2's eight lanes
+// would need twice the permutes: measured slower there, it only gathers.
 template <class Arch>
-constexpr bool srgb_without_gathers() {
+constexpr bool has_srgb_permutes() {
   return Lanes<Arch>::size >= 16 && has_permute<Arch>();
 }
 
 // srgb_encode in every lane: the byte whose sRGB value is nearest to each linear value. The table
-// path is the scalar encoder's, with one gather of the bucket words. Where srgb_without_gathers,
+// path is the scalar encoder's, with one gather of the bucket words. With SrgbLookup::permutes,
 // the bytes are first estimated without a gather (kernels/color_formats.hpp kSrgbPolynomial),
 // and the estimate stands when every lane is clear of a rounding boundary (else the vector takes
 // the table).
-template <class Arch, class Fma>
+template <class Arch, class Fma, SrgbLookup Lookup = SrgbLookup::gathers>
 REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables& tables,
                                                                 const xsimd::batch<float, Arch>& linear) {
   REPROJECT_LANE_TYPES(Arch);
@@ -34,7 +38,8 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables
   F l = xsimd::select(linear > lowest, linear, lowest);  // NaN too
   l = xsimd::select(l < F(1.0f), l, F(1.0f));
   const I bits = bits_of<Arch>(l);
-  if constexpr (srgb_without_gathers<Arch>()) {
+  static_assert(Lookup == SrgbLookup::gathers || has_srgb_permutes<Arch>());
+  if constexpr (Lookup == SrgbLookup::permutes) {
     // l = m 2^e: m - 1 from the mantissa bits, e + 9 (at least 0) from the exponent's.
     const F t = float_bits<Arch>((bits & I(0x7fffff)) | I(0x3f800000)) - F(1.0f);
     F power(kSrgbPolynomial[0]);
@@ -57,15 +62,16 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables
   return (word >> kSrgbStepBits) + I(1) + below;
 }
 
-// The linear value of each lane's byte (0..255), bit for bit tables.to_linear[byte].
-// Where a vector has sixteen lanes, the 256 entries are sixteen registers and a lane's entry is
+// The linear value of each lane's byte (0..255), bit for bit tables.to_linear[byte]: a gather, or
+// with SrgbLookup::permutes (sixteen lanes) the 256 entries as sixteen registers, a lane's entry
 // picked by eight two-register permutes (the byte's low five bits) and a tree of selects on its
-// bits 5, 6 and 7, cheaper there than a sixteen-lane gather; elsewhere a gather.
-template <class Arch>
+// bits 5, 6 and 7.
+template <class Arch, SrgbLookup Lookup = SrgbLookup::gathers>
 REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> srgb_decode_lanes(const SrgbTables& tables,
                                                                            const IntLanes<Arch>& bytes) {
   REPROJECT_LANE_TYPES(Arch);
-  if constexpr (srgb_without_gathers<Arch>()) {
+  static_assert(Lookup == SrgbLookup::gathers || has_srgb_permutes<Arch>());
+  if constexpr (Lookup == SrgbLookup::permutes) {
     LaneIndex<Arch> lanes;
     index_for_two_registers<Arch>(lanes, bytes & I(31));
     I part[8];  // part[k]: entry 32 k + (byte & 31)
@@ -88,8 +94,8 @@ REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> srgb_decode_lanes(const
 // rgba8_srgb's R, G, B in linear light through the sRGB tables. Consecutive: the caller's words
 // are consecutive pixels, w1's lane i being w0's lane i + 1 (the column fetch's consecutive mode),
 // so w0's linear values are w1's moved up one lane with w0's lane 0 looked up alone: one gather
-// per channel saved, the same values.
-template <class Arch, class Fma, bool Srgb, bool Consecutive = false>
+// per channel saved, the same values. Lookup: how the sRGB tables are read (the same bytes).
+template <class Arch, class Fma, bool Srgb, bool Consecutive = false, SrgbLookup Lookup = SrgbLookup::gathers>
 REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0,
                                                                  const IntLanes<Arch>& w1,
                                                                  const xsimd::batch<float, Arch>& frac) {
@@ -105,20 +111,75 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
     if constexpr (Consecutive) first_word = bits_of_float(first_lane<Arch>(float_bits<Arch>(w0)));
     auto channel = [&](auto c_tag) {
       constexpr int c = decltype(c_tag)::value;
-      const F l1 = srgb_decode_lanes<Arch>(*f.srgb, byte_lanes<c, Arch>(w1));
+      const F l1 = srgb_decode_lanes<Arch, Lookup>(*f.srgb, byte_lanes<c, Arch>(w1));
       F l0;
       if constexpr (Consecutive) {
         l0 = shift_in_first<Arch>(l1, f.srgb->to_linear[(first_word >> (8 * c)) & 0xffu]);
       } else {
-        l0 = srgb_decode_lanes<Arch>(*f.srgb, byte_lanes<c, Arch>(w0));
+        l0 = srgb_decode_lanes<Arch, Lookup>(*f.srgb, byte_lanes<c, Arch>(w0));
       }
-      out = out | (srgb_encode_lanes<Arch, Fma>(*f.srgb, vmadd<Fma>(frac, l1 - l0, l0)) << (8 * c));
+      out = out | (srgb_encode_lanes<Arch, Fma, Lookup>(*f.srgb, vmadd<Fma>(frac, l1 - l0, l0)) << (8 * c));
     };
     channel(std::integral_constant<int, 0>{});
     channel(std::integral_constant<int, 1>{});
     channel(std::integral_constant<int, 2>{});
     return out;
   }
+}
+
+// Read after the clock starts and written before it stops (time_srgb_lookups), so that the
+// compiler can move none of the timed work out of the timed span.
+volatile float srgb_timing_weight = 0.375f;
+volatile std::int32_t srgb_timing_sink = 0;
+
+// Which SrgbLookup is faster on this processor, for a set with both (has_srgb_permutes): the
+// rgba8_srgb blend of consecutive pixels (what the resolve runs on nearly every vector) timed
+// with each in turn, best of five, on 1024 pixels of pseudo-random bytes, the tables in cache as
+// in a frame. About 0.2 ms. Noise can only cost speed, never change a byte: both lookups give
+// the same bytes.
+template <class Arch, class Fma>
+SrgbLookup time_srgb_lookups() {
+  REPROJECT_LANE_TYPES(Arch);
+  constexpr int kVectors = 64, kPasses = 4, kRounds = 5;
+  alignas(64) std::int32_t words[kVectors * L + L];
+  std::uint32_t state = 0x2545f491u;
+  for (std::int32_t& w : words) {
+    state = state * 1664525u + 1013904223u;
+    w = static_cast<std::int32_t>(state);
+  }
+  Frame f;
+  f.srgb = &srgb_tables();
+  auto seconds = [&](auto lookup_tag) {
+    constexpr SrgbLookup kLookup = decltype(lookup_tag)::value;
+    const auto start = std::chrono::steady_clock::now();
+    const F frac(srgb_timing_weight);
+    I mixed(0);
+    for (int pass = 0; pass < kPasses; ++pass) {
+      for (int v = 0; v < kVectors; ++v) {
+        const I w0 = I::load_aligned(words + v * L), w1 = I::load_unaligned(words + v * L + 1);
+        mixed = mixed ^ blend_rgba8<Arch, Fma, true, true, kLookup>(f, w0, w1, frac);
+      }
+    }
+    alignas(64) std::int32_t lanes[L];
+    mixed.store_aligned(lanes);
+    std::int32_t folded = 0;
+    for (std::int32_t lane : lanes) folded ^= lane;
+    srgb_timing_sink = folded;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  double best[2] = {1e30, 1e30};
+  for (int round = 0; round < kRounds; ++round) {
+    best[0] = std::min(best[0], seconds(std::integral_constant<SrgbLookup, SrgbLookup::gathers>{}));
+    best[1] = std::min(best[1], seconds(std::integral_constant<SrgbLookup, SrgbLookup::permutes>{}));
+  }
+  return best[1] < best[0] ? SrgbLookup::permutes : SrgbLookup::gathers;
+}
+
+// time_srgb_lookups once per process (per table: KernelTable::srgb_lookup).
+template <class Arch, class Fma>
+SrgbLookup faster_srgb_lookup() {
+  static const SrgbLookup faster = time_srgb_lookups<Arch, Fma>();
+  return faster;
 }
 
 // Float RGBA and rgba16f: a pixel's four channels are one 128-bit register, so each lane's pixel

@@ -10,7 +10,8 @@
 
 namespace reproject::detail {
 
-struct SrgbTables;  // kernels/color_formats.hpp
+struct SrgbTables;                       // kernels/color_formats.hpp
+enum class SrgbLookup : unsigned char;  // kernels/color_formats.hpp
 
 // Everything a row needs, computed once per call after validation.
 struct Frame {
@@ -22,6 +23,7 @@ struct Frame {
   MutableDepthBuffer depth_out;
   ColorFormat color_format = ColorFormat::float32;
   const SrgbTables* srgb = nullptr;  // rgba8_srgb
+  SrgbLookup srgb_lookup{};          // rgba8_srgb on sets with two ways (gathers: 0)
   // rgba8_packed_linear: d = near + v (far - near).
   float packed_near = 0.0f;
   float packed_range = 1.0f;

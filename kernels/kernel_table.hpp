@@ -23,6 +23,10 @@ struct KernelTable {
   NearestKey nearest_key;
   SearchRow search[kMethodCount];
   ResolveRow resolve;
+  // Sets with two ways to read the sRGB tables (kernels/color_formats.hpp SrgbLookup): the
+  // faster on this processor, timed at its first call (kernels/color_formats_simd.hpp
+  // faster_srgb_lookup). Null on the others: they gather.
+  SrgbLookup (*srgb_lookup)();
 };
 
 // The scalar references are compiled twice (CMakeLists.txt): with the baseline flags, and with

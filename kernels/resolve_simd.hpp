@@ -20,11 +20,17 @@ namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // How a row's colour is read and written: a float per lane and plane; a pixel per 128-bit
-// register (float RGBA, rgba16f); a 32-bit word per lane (rgba8, rgba8_srgb).
-enum class ColorPath { planes, float_rgba, half_rgba, rgba8, rgba8_srgb };
+// register (float RGBA, rgba16f); a 32-bit word per lane (rgba8, rgba8_srgb with either sRGB
+// lookup, Frame::srgb_lookup).
+enum class ColorPath { planes, float_rgba, half_rgba, rgba8, rgba8_srgb, rgba8_srgb_permutes };
+
+constexpr bool is_word_path(ColorPath path) {
+  return path == ColorPath::rgba8 || path == ColorPath::rgba8_srgb || path == ColorPath::rgba8_srgb_permutes;
+}
 
 // Calls body(tag) with a compile-time tag of the colour path (as with_depth_format does for depth).
-template <class Body>
+// rgba8_srgb_permutes exists on sets with sRGB permutes only (color_path_of).
+template <class Arch, class Body>
 void with_color_path(ColorPath path, const Body& body) {
   switch (path) {
     case ColorPath::planes: return body(std::integral_constant<ColorPath, ColorPath::planes>{});
@@ -32,13 +38,21 @@ void with_color_path(ColorPath path, const Body& body) {
     case ColorPath::half_rgba: return body(std::integral_constant<ColorPath, ColorPath::half_rgba>{});
     case ColorPath::rgba8: return body(std::integral_constant<ColorPath, ColorPath::rgba8>{});
     case ColorPath::rgba8_srgb: return body(std::integral_constant<ColorPath, ColorPath::rgba8_srgb>{});
+    case ColorPath::rgba8_srgb_permutes:
+      if constexpr (has_srgb_permutes<Arch>()) {
+        return body(std::integral_constant<ColorPath, ColorPath::rgba8_srgb_permutes>{});
+      }
+      break;
   }
 }
 
-inline ColorPath color_path_of(const Frame& f) {
+template <class Arch>
+ColorPath color_path_of(const Frame& f) {
   switch (f.color_format) {
     case ColorFormat::rgba8: return ColorPath::rgba8;
-    case ColorFormat::rgba8_srgb: return ColorPath::rgba8_srgb;
+    case ColorFormat::rgba8_srgb:
+      return has_srgb_permutes<Arch>() && f.srgb_lookup == SrgbLookup::permutes ? ColorPath::rgba8_srgb_permutes
+                                                                                : ColorPath::rgba8_srgb;
     case ColorFormat::rgba16f: return ColorPath::half_rgba;
     case ColorFormat::float32: break;
   }
@@ -52,7 +66,7 @@ struct RowContext {
 
   RowContext(const Frame& frame, int y, const RowScratch& scratch)
       : f(frame),
-        path(color_path_of(frame)),
+        path(color_path_of<Arch>(frame)),
         planes(path == ColorPath::planes ? frame.source.color.channels : 1),
         source_width(frame.source_width),
         parallax(scratch.parallax),
@@ -158,12 +172,14 @@ REPROJECT_ALWAYS_INLINE inline void write_color(const RowContext<Arch>& row, con
     using Pixel = std::conditional_t<Path == ColorPath::float_rgba, FloatRgbaPixel, HalfRgbaPixel>;
     resolve_rgba_pixels<Arch, Fma, Pixel>(row.source[0], row.target[0] + out_byte, j0, j1, frac, ~write, black,
                                           masked || any_black);
-  } else if constexpr (Path == ColorPath::rgba8 || Path == ColorPath::rgba8_srgb) {
+  } else if constexpr (is_word_path(Path)) {
     F c0, c1;
     fetch(reinterpret_cast<const float*>(row.source[0]), c0, c1);
     // (first_lane, used for consecutive words, is where the consecutive mode is: sets with permutes.)
     constexpr bool consecutive = Fetch::mode == ColumnFetch<Arch>::Mode::consecutive && has_permute<Arch>();
-    const I blended = blend_rgba8<Arch, Fma, Path == ColorPath::rgba8_srgb, consecutive>(row.f, bits_of<Arch>(c0), bits_of<Arch>(c1), frac);
+    constexpr SrgbLookup lookup = Path == ColorPath::rgba8_srgb_permutes ? SrgbLookup::permutes : SrgbLookup::gathers;
+    const I blended = blend_rgba8<Arch, Fma, Path != ColorPath::rgba8, consecutive, lookup>(row.f, bits_of<Arch>(c0),
+                                                                                           bits_of<Arch>(c1), frac);
     store_lanes<Arch>(reinterpret_cast<float*>(row.target[0] + out_byte), float_bits<Arch>(blended), write, black, masked,
                       any_black);
   } else {
@@ -258,7 +274,7 @@ REPROJECT_NOINLINE void resolve_vector(const RowContext<Arch>& row, int t, Tally
   const B black = outside & B(row.black_edges);
   const bool any_black = row.black_edges && xsimd::any(black);
   columns.visit([&](const auto& fetch) {
-    with_color_path(row.path, [&](auto path) {
+    with_color_path<Arch>(row.path, [&](auto path) {
       write_color<decltype(path)::value, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
     });
     if (row.depth_out) write_depth<Arch, Fma>(row, fetch, t, frac, write, masked);
@@ -350,7 +366,7 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   const RowContext<Arch> row(f, y, scratch);
   const int whole = f.target_width / L * L;
   Tally tally{};
-  with_color_path(row.path, [&](auto path) { resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally); });
+  with_color_path<Arch>(row.path, [&](auto path) { resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally); });
   tally.end_row();
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail
 }

@@ -44,10 +44,15 @@ struct X86Set<xsimd::fma3<xsimd::avx2>> {
   // a 128-bit constant broadcast is rebuilt in the loop by GCC 12).
   static __m256i each_128_bits(int a, int b, int c, int d) { return _mm256_setr_epi32(a, b, c, d, a, b, c, d); }
   template <int Byte>
+  // (Only rgba8_srgb's decode uses it. Its shuffle control is a 128-bit constant broadcast, which
+  // GCC 12 rebuilds in the loop: on the Intel Xeon, rgba8_srgb ran 1.16x slower with the whole-
+  // register constant (each_128_bits) and as fast with two shifts as with that, docs/PERFORMANCE.md
+  // "Measured design choices".)
   static I byte_lanes(const I& w) {
     if constexpr (Byte == 3) return _mm256_srli_epi32(w, 24);
-    constexpr int z = static_cast<int>(0x80808000u);  // the byte, then three zeroed bytes
-    return _mm256_shuffle_epi8(w, each_128_bits(z | Byte, z | (Byte + 4), z | (Byte + 8), z | (Byte + 12)));
+    constexpr char z = -128;  // a shuffle index with its top bit set writes zero
+    const __m128i pick = _mm_setr_epi8(Byte, z, z, z, Byte + 4, z, z, z, Byte + 8, z, z, z, Byte + 12, z, z, z);
+    return _mm256_shuffle_epi8(w, _mm256_broadcastsi128_si256(pick));
   }
   static float first_lane(const F& v) { return _mm256_cvtss_f32(v); }
   static F shift_in_first(const F& v, __m128 first) {

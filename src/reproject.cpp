@@ -3,6 +3,7 @@
 // (src/bands.hpp). Nothing is checked inside the pixel loops.
 #include "reproject/reproject.hpp"
 
+#include "kernels/color_formats.hpp"
 #include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
 #include "src/bands.hpp"
@@ -27,9 +28,16 @@ const KernelTable& kernels_for(const Options& options) {
   return *detail::compiled_kernels(options.arch ? *options.arch : selected_arch());
 }
 
+// The sRGB lookup of an rgba8_srgb frame (kernels/color_formats.hpp SrgbLookup): `forced`, or the
+// table's choice. Only tables that have both read it.
+void choose_srgb_lookup(const KernelTable& kernels, Frame& frame, const detail::SrgbLookup* forced = nullptr) {
+  if (frame.color_format != ColorFormat::rgba8_srgb || kernels.srgb_lookup == nullptr) return;
+  frame.srgb_lookup = forced ? *forced : detail::srgb_lookup_for(kernels);
+}
+
 Status reproject_one(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
                      const ParallaxModel& model, const Options& options, const TargetView& target,
-                     const ParallelFor* jobs) {
+                     const ParallelFor* jobs, const detail::SrgbLookup* srgb_lookup = nullptr) {
   const detail::CallScope scope;
   const TargetView* targets[1] = {&target};
   const char* names[1] = {"target"};
@@ -37,6 +45,7 @@ Status reproject_one(const KernelTable& kernels, const SourceView& source, const
   const Status status = check_call(source, decoder, model, options, targets, names, 1, &views);
   if (!status.ok() || views.empty) return status;
   Frame frame = plan_frame(views.source, decoder, model, options, views.targets[0]);
+  choose_srgb_lookup(kernels, frame, srgb_lookup);
   return run_frames(kernels, &frame, 1, options, jobs);
 }
 
@@ -54,7 +63,9 @@ Status reproject_two(const SourceView& centre, const DepthDecoder& decoder, cons
   if (!status.ok() || views.empty) return status;
   Frame frames[2] = {plan_frame(views.source, decoder, centre_to_left, options, views.targets[0]),
                      plan_frame(views.source, decoder, centre_to_right, options, views.targets[1])};
-  return run_frames(kernels_for(options), frames, 2, options, jobs);
+  const KernelTable& kernels = kernels_for(options);
+  for (Frame& frame : frames) choose_srgb_lookup(kernels, frame);
+  return run_frames(kernels, frames, 2, options, jobs);
 }
 
 }  // namespace
@@ -62,8 +73,9 @@ Status reproject_two(const SourceView& centre, const DepthDecoder& decoder, cons
 namespace detail {
 
 Status reproject_with(const KernelTable& kernels, const SourceView& source, const DepthDecoder& decoder,
-                      const ParallaxModel& model, const Options& options, const TargetView& target) {
-  return reproject_one(kernels, source, decoder, model, options, target, nullptr);
+                      const ParallaxModel& model, const Options& options, const TargetView& target,
+                      const SrgbLookup* srgb_lookup) {
+  return reproject_one(kernels, source, decoder, model, options, target, nullptr, srgb_lookup);
 }
 
 }  // namespace detail

@@ -1752,6 +1752,10 @@ TEST(CliErrors, StrictNumbersAndForcedArch) {
   EXPECT_NE(r.err.find("REPROJECT_FORCE_ARCH: unknown instruction set 'frob' (" + reproject::arch_names() + ")"), std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(path("x.png")));
+  const CliRun l = run(frame + " --convergence 3.5", "REPROJECT_SRGB_LOOKUP=gather ");
+  EXPECT_EQ(l.code, 2) << l.err;
+  EXPECT_NE(l.err.find("REPROJECT_SRGB_LOOKUP: unknown sRGB lookup 'gather' (gathers, permutes)"), std::string::npos) << l.err;
+  EXPECT_FALSE(fs::exists(path("x.png")));
   EXPECT_EQ(run("warp --color room/centre.png --depth room/centre_depth.pfm --encoding standard --near +1 --far 2e1 "
                 "--convergence 3.5e0 --out x.png").code, 0);
 }

@@ -9,12 +9,15 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <limits>
 #include <random>
 #include <vector>
 
 #include "kernels/codes.hpp"
+#include "kernels/color_formats.hpp"
 #include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
 #include "src/reproject_internal.hpp"
@@ -443,11 +446,13 @@ Views make_views(const Frames& fr, const FormatCase& fc, bool native, const Opti
   return v;
 }
 
-// Runs the frame in its formats (native) or as float (the float path), outputs pre-filled.
+// Runs the frame in its formats (native) or as float (the float path), outputs pre-filled; with
+// kernels, in the sRGB lookup `srgb_lookup` when given.
 Status run(const detail::KernelTable* kernels, const Frames& fr, const FormatCase& fc, bool native,
-           const DepthDecoder& decoder, const ParallaxModel& model, const Options& options, Outputs& out) {
+           const DepthDecoder& decoder, const ParallaxModel& model, const Options& options, Outputs& out,
+           const detail::SrgbLookup* srgb_lookup = nullptr) {
   const Views v = make_views(fr, fc, native, options, out);
-  if (kernels) return detail::reproject_with(*kernels, v.source, decoder, model, options, v.target);
+  if (kernels) return detail::reproject_with(*kernels, v.source, decoder, model, options, v.target, srgb_lookup);
   return reproject(v.source, decoder, model, options, v.target);
 }
 
@@ -484,6 +489,10 @@ TEST_P(FormatsEveryArch, SimdMatchesScalarAndThreads) {
   const detail::KernelTable& simd = *detail::compiled_kernels(arch);
   const detail::KernelTable& reference = detail::reference_kernels(arch);
   std::mt19937 rng(static_cast<unsigned>(arch) + 101u);
+  // rgba8_srgb runs with each sRGB lookup the set has (kernels/color_formats.hpp SrgbLookup:
+  // AVX-512 has two, chosen at run time by speed), whichever this processor would choose.
+  std::vector<detail::SrgbLookup> lookups = {detail::SrgbLookup::gathers};
+  if (simd.srgb_lookup != nullptr) lookups.push_back(detail::SrgbLookup::permutes);
   long runs = 0;
   for (const FormatCase& fc : kCases) {
     for (int width : {1, 7, 16, 17, 33, 64, 129}) {
@@ -492,18 +501,22 @@ TEST_P(FormatsEveryArch, SimdMatchesScalarAndThreads) {
         const Frames fr = make_frames(rng, width, 3, fc, decoder);
         for (int m = 0; m < kMethodCount; ++m) {
           const Options options = options_for(static_cast<Method>(m), variant, width);
-          Outputs a, b;
-          ASSERT_TRUE(run(&simd, fr, fc, true, decoder, model_for(variant), options, a).ok());
+          Outputs b;
           ASSERT_TRUE(run(&reference, fr, fc, true, decoder, model_for(variant), options, b).ok());
-          const auto where = [&] {
-            return std::string(to_string(fc.color)) + "+" + to_string(fc.depth) + " " + to_string(static_cast<Method>(m)) +
-                   " width " + std::to_string(width) + " variant " + std::to_string(variant);
-          };
-          ASSERT_EQ(a.color, b.color) << where();
-          ASSERT_EQ(a.depth, b.depth) << where();
-          ASSERT_EQ(a.status, b.status) << where();
-          ASSERT_EQ(0, std::memcmp(a.source_x.data(), b.source_x.data(), a.source_x.size() * 4)) << where();
-          ++runs;
+          for (std::size_t k = 0; k < (fc.color == ColorFormat::rgba8_srgb ? lookups.size() : 1); ++k) {
+            Outputs a;
+            ASSERT_TRUE(run(&simd, fr, fc, true, decoder, model_for(variant), options, a, &lookups[k]).ok());
+            const auto where = [&] {
+              return std::string(to_string(fc.color)) + "+" + to_string(fc.depth) + " " +
+                     to_string(static_cast<Method>(m)) + " width " + std::to_string(width) + " variant " +
+                     std::to_string(variant) + (lookups[k] == detail::SrgbLookup::permutes ? " (sRGB by permutes)" : "");
+            };
+            ASSERT_EQ(a.color, b.color) << where();
+            ASSERT_EQ(a.depth, b.depth) << where();
+            ASSERT_EQ(a.status, b.status) << where();
+            ASSERT_EQ(0, std::memcmp(a.source_x.data(), b.source_x.data(), a.source_x.size() * 4)) << where();
+            ++runs;
+          }
         }
       }
     }
@@ -529,6 +542,39 @@ TEST_P(FormatsEveryArch, SimdMatchesScalarAndThreads) {
 
 INSTANTIATE_TEST_SUITE_P(EveryArch, FormatsEveryArch, ::testing::ValuesIn(every_arch()),
                          [](const ::testing::TestParamInfo<Arch>& info) { return std::string(to_string(info.param)); });
+
+// How each set reads the sRGB tables (kernels/dispatch.hpp srgb_lookup_for): AVX-512 has two
+// ways, timed once per process unless REPROJECT_SRGB_LOOKUP names one (ctest SrgbLookup.* runs
+// this test with each value), every other set one (gathers). The choice holds for the process.
+TEST(PixelFormats, SrgbLookupChoice) {
+  const char* env = std::getenv("REPROJECT_SRGB_LOOKUP");
+  const std::string named = env ? env : "";
+  int checked = 0;
+  for (int a = 0; a < kArchCount; ++a) {
+    const Arch arch = static_cast<Arch>(a);
+    if (!arch_supported(arch)) continue;
+    const detail::KernelTable& kernels = *detail::compiled_kernels(arch);
+    ++checked;
+    if (arch != Arch::avx512) {
+      EXPECT_EQ(kernels.srgb_lookup, nullptr) << to_string(arch);
+      EXPECT_EQ(detail::srgb_lookup_for(kernels), detail::SrgbLookup::gathers) << to_string(arch);
+      continue;
+    }
+    ASSERT_NE(kernels.srgb_lookup, nullptr) << "the AVX-512 table has two sRGB lookups";
+    const detail::SrgbLookup chosen = detail::srgb_lookup_for(kernels);
+    EXPECT_EQ(detail::srgb_lookup_for(kernels), chosen) << "chosen once per process";
+    if (named == "gathers" || named == "permutes") {
+      EXPECT_EQ(chosen, named == "permutes" ? detail::SrgbLookup::permutes : detail::SrgbLookup::gathers);
+    } else {  // timed: the table's own answer
+      EXPECT_EQ(chosen, kernels.srgb_lookup());
+    }
+    std::printf("[ sRGB     ] avx512 reads the sRGB tables by %s (%s)\n",
+                chosen == detail::SrgbLookup::permutes ? "permutes" : "gathers",
+                named == "gathers" || named == "permutes" ? ("REPROJECT_SRGB_LOOKUP=" + named).c_str()
+                                                          : "timed on this processor");
+  }
+  EXPECT_GT(checked, 0);
+}
 
 // The native formats against the float path on the same frame (the float frame holds the values
 // the formats decode to): the search sees the same parallax, so status and source x are

@@ -153,8 +153,19 @@ Outcome check_blend_rgba8_q15() {
   return out;
 }
 
-// The colour twins' sRGB decoder (kernels/color_formats_simd.hpp srgb_decode_lanes): every byte
-// in every lane, beside every other byte, bit for bit the table's value.
+// Calls body(tag) with each sRGB lookup the set has (kernels/color_formats_simd.hpp: gathers, and
+// permutes where has_srgb_permutes), a compile-time tag, and its name.
+template <class Arch, class Body>
+void for_each_srgb_lookup(const Body& body) {
+  body(std::integral_constant<detail::SrgbLookup, detail::SrgbLookup::gathers>{}, "gathers: ");
+  if constexpr (detail::has_srgb_permutes<Arch>()) {
+    body(std::integral_constant<detail::SrgbLookup, detail::SrgbLookup::permutes>{}, "permutes: ");
+  }
+}
+
+// The colour twins' sRGB decoder (kernels/color_formats_simd.hpp srgb_decode_lanes), with each
+// lookup the set has: every byte in every lane, beside every other byte, bit for bit the table's
+// value.
 template <class Arch>
 Outcome check_srgb_decode() {
   Outcome out;
@@ -163,29 +174,33 @@ Outcome check_srgb_decode() {
   const detail::SrgbTables& tables = detail::srgb_tables();
   std::int32_t bytes[L];
   std::uint32_t got[L];
-  for (int step = 1; step < 256; step += 2) {  // odd steps: every byte in every lane
-    for (int first = 0; first < 256; ++first) {
-      for (int i = 0; i < L; ++i) bytes[i] = (first + step * i) % 256;
-      V::bits(detail::srgb_decode_lanes<Arch>(tables, V::ints(bytes)), got);
-      for (int i = 0; i < L; ++i) {
-        std::uint32_t want = 0;
-        std::memcpy(&want, &tables.to_linear[bytes[i]], 4);
-        ++out.lanes;
-        if (got[i] != want) {
-          out.fail(lane_text(i) + "srgb_decode(" + std::to_string(bytes[i]) + ") = " + show(got[i]) + ", table " + show(want));
+  for_each_srgb_lookup<Arch>([&](auto lookup, const char* how) {
+    for (int step = 1; step < 256; step += 2) {  // odd steps: every byte in every lane
+      for (int first = 0; first < 256; ++first) {
+        for (int i = 0; i < L; ++i) bytes[i] = (first + step * i) % 256;
+        V::bits(detail::srgb_decode_lanes<Arch, decltype(lookup)::value>(tables, V::ints(bytes)), got);
+        for (int i = 0; i < L; ++i) {
+          std::uint32_t want = 0;
+          std::memcpy(&want, &tables.to_linear[bytes[i]], 4);
+          ++out.lanes;
+          if (got[i] != want) {
+            out.fail(lane_text(i) + how + "srgb_decode(" + std::to_string(bytes[i]) + ") = " + show(got[i]) + ", table " +
+                     show(want));
+          }
         }
       }
     }
-  }
+  });
   return out;
 }
 
 // The colour twins' sRGB encoder (kernels/color_formats_simd.hpp srgb_encode_lanes; not an arch
-// layer primitive, but per set like one): every lane the scalar encoder's byte. Where the set
-// estimates the byte (AVX-512), for every float from the first bucket's to 1, twice: consecutive
-// floats in the lanes, then lanes drawn from far apart so that a vector mixes lanes near and
-// away from a rounding boundary; elsewhere (the scalar encoder's table) every 61st float. Then
-// zeros, negatives, values above 1, infinities, NaN and subnormals.
+// layer primitive, but per set like one), with each lookup the set has: every lane the scalar
+// encoder's byte. Where the lookup estimates the byte (permutes, AVX-512), for every float from
+// the first bucket's to 1, twice: consecutive floats in the lanes, then lanes drawn from far
+// apart so that a vector mixes lanes near and away from a rounding boundary; with gathers (the
+// scalar encoder's table) every 61st float. Then zeros, negatives, values above 1, infinities,
+// NaN and subnormals.
 template <class Arch, class Fma>
 Outcome check_srgb_encode() {
   Outcome out;
@@ -194,35 +209,38 @@ Outcome check_srgb_encode() {
   const detail::SrgbTables& tables = detail::srgb_tables();
   std::uint32_t lanes[L];
   std::int32_t got[L];
-  auto compare = [&](const char* what) {
-    V::ints_out(detail::srgb_encode_lanes<Arch, Fma>(tables, V::floats(lanes)), got);
-    for (int i = 0; i < L; ++i) {
-      const int want = detail::srgb_encode(tables, value_of_bits(lanes[i]));
-      ++out.lanes;
-      if (got[i] != want) {
-        out.fail(lane_text(i) + what + " srgb_encode(" + show(lanes[i]) + ") = " + std::to_string(got[i]) + ", scalar " +
-                 std::to_string(want));
+  for_each_srgb_lookup<Arch>([&](auto lookup, const char* how) {
+    constexpr detail::SrgbLookup kLookup = decltype(lookup)::value;
+    auto compare = [&](const char* what) {
+      V::ints_out(detail::srgb_encode_lanes<Arch, Fma, kLookup>(tables, V::floats(lanes)), got);
+      for (int i = 0; i < L; ++i) {
+        const int want = detail::srgb_encode(tables, value_of_bits(lanes[i]));
+        ++out.lanes;
+        if (got[i] != want) {
+          out.fail(lane_text(i) + how + what + " srgb_encode(" + show(lanes[i]) + ") = " + std::to_string(got[i]) +
+                   ", scalar " + std::to_string(want));
+        }
       }
+    };
+    const std::uint32_t first = detail::kSrgbFirstBucket << detail::kSrgbBucketShift, last = 0x3f800000u;  // 1.0f
+    const std::uint32_t count = last - first + 1;
+    const std::uint32_t stride = kLookup == detail::SrgbLookup::permutes ? 1 : 61;
+    for (std::uint32_t k = 0; k < count; k += stride * L) {
+      for (int i = 0; i < L; ++i) lanes[i] = first + std::min(count - 1, k + stride * static_cast<std::uint32_t>(i));
+      compare("consecutive");
     }
-  };
-  const std::uint32_t first = detail::kSrgbFirstBucket << detail::kSrgbBucketShift, last = 0x3f800000u;  // 1.0f
-  const std::uint32_t count = last - first + 1;
-  const std::uint32_t stride = detail::srgb_without_gathers<Arch>() ? 1 : 61;
-  for (std::uint32_t k = 0; k < count; k += stride * L) {
-    for (int i = 0; i < L; ++i) lanes[i] = first + std::min(count - 1, k + stride * static_cast<std::uint32_t>(i));
-    compare("consecutive");
-  }
-  for (std::uint32_t k = 0; k < count; k += stride * L) {
-    for (int i = 0; i < L; ++i) {
-      const std::uint64_t index = k / L + static_cast<std::uint64_t>(i) * 6700417u * stride;
-      lanes[i] = first + static_cast<std::uint32_t>(index % count);
+    for (std::uint32_t k = 0; k < count; k += stride * L) {
+      for (int i = 0; i < L; ++i) {
+        const std::uint64_t index = k / L + static_cast<std::uint64_t>(i) * 6700417u * stride;
+        lanes[i] = first + static_cast<std::uint32_t>(index % count);
+      }
+      compare("mixed");
     }
-    compare("mixed");
-  }
-  for (std::size_t k = 0; k < special_values().size(); k += L) {
-    for (int i = 0; i < L; ++i) lanes[i] = special_at(k + static_cast<std::size_t>(i));
-    compare("special");
-  }
+    for (std::size_t k = 0; k < special_values().size(); k += L) {
+      for (int i = 0; i < L; ++i) lanes[i] = special_at(k + static_cast<std::size_t>(i));
+      compare("special");
+    }
+  });
   return out;
 }
 

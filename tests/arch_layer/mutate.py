@@ -38,6 +38,7 @@ X86 = [
      "static I bits_of(const F& v) { return _mm256_cvtps_epi32(v); }"),
     ("byte_lanes", "simd_x86_avx2.hpp", "if constexpr (Byte == 3) return _mm256_srli_epi32(w, 24);",
      "if constexpr (Byte == 3) return _mm256_srli_epi32(w, 23);"),
+    ("byte_lanes", "simd_x86_avx512.hpp", "_mm512_slli_epi32(w, 24 - 8 * Byte), 24)", "_mm512_slli_epi32(w, 24 - 8 * Byte), 23)"),
     ("gather", "simd_x86_avx2.hpp", "_mm256_i32gather_ps(base, index, 4)", "_mm256_i32gather_ps(base + 1, index, 4)"),
     # The sRGB decoder (AVX-512): two parts swapped; an index of four bits. Its encoder's estimate:
     # no margin round a rounding boundary; a coefficient 4e-6 off (1e-3 codes at the top).

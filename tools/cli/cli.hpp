@@ -300,10 +300,11 @@ int dilate_radius_from_flags(const Flags& flags);
 // The halo pre-filter (dilate_nearer_depth): each depth becomes the nearest one within `radius`
 // columns of its row; nothing when radius is 0. Runs on stored values after --depth-scale.
 void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius);
-// REPROJECT_FORCE_ARCH, when set, must name an instruction set (the library would only warn on
-// stderr and use the best set): a usage error naming the valid values. An unsupported one stays
-// allowed: the library then falls back to the best supported set, as documented.
-void check_forced_arch();
+// REPROJECT_FORCE_ARCH, when set, must name an instruction set, and REPROJECT_SRGB_LOOKUP
+// `gathers` or `permutes` (the library would only warn on stderr and ignore them): a usage error
+// naming the valid values. An unsupported set stays allowed: the library then falls back to the
+// best supported set, as documented.
+void check_environment();
 // --arch, checked against this CPU; selected_arch() when absent.
 Arch arch_from_flags(const Flags& flags);
 // Every instruction set the library names, in its order, "scalar, sse, avx2, avx512" (with

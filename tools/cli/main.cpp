@@ -52,13 +52,13 @@ int main(int argc, char** system_argv) {
   // console handler has removed the temporary files, a write under way fails).
   auto failed = [](int code) { return interruption()->load() ? static_cast<int>(kExitInterrupted) : code; };
   try {
-    // Before the arch check: the version is printed whatever the environment says.
+    // Before the environment check: the version is printed whatever the environment says.
     if (command == "--version") {
       if (argc > 2) fail(kExitUsage, "--version takes no arguments");
       std::printf("reproject %s\n", reproject::version());
       return kExitOk;
     }
-    check_forced_arch();
+    check_environment();
     if (command == "warp") return run_warp(argc, argv);
     if (command == "pair") return run_pair(argc, argv);
     if (command == "compare") return run_compare(argc, argv);

@@ -3,6 +3,7 @@
 // flag costs no work and names itself.
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 #include "cli.hpp"
@@ -246,11 +247,15 @@ void dilate_depth(Image* depth, const DepthDecoder& decoder, int radius) {
 }
 
 
-void check_forced_arch() {
+void check_environment() {
   const char* forced = std::getenv("REPROJECT_FORCE_ARCH");
   Arch arch = Arch::scalar;
   if (forced != nullptr && *forced != '\0' && !parse_arch(forced, &arch)) {
     fail(kExitUsage, std::string("REPROJECT_FORCE_ARCH: unknown instruction set '") + forced + "' (" + arch_names() + ")");
+  }
+  const char* lookup = std::getenv("REPROJECT_SRGB_LOOKUP");
+  if (lookup != nullptr && *lookup != '\0' && std::strcmp(lookup, "gathers") != 0 && std::strcmp(lookup, "permutes") != 0) {
+    fail(kExitUsage, std::string("REPROJECT_SRGB_LOOKUP: unknown sRGB lookup '") + lookup + "' (gathers, permutes)");
   }
 }
 
