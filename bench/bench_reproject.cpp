@@ -762,9 +762,11 @@ void add_context() {
   benchmark::AddCustomContext("reproject_selected_arch", to_string(selected_arch()));
   // AVX-512's rgba8_srgb reads the sRGB tables by gathers or by permutes, the faster on this
   // processor timed at the first call, unless REPROJECT_SRGB_LOOKUP names one (docs/BEHAVIOUR.md).
-  const char* lookup = std::getenv("REPROJECT_SRGB_LOOKUP");
-  benchmark::AddCustomContext("reproject_srgb_lookup", lookup && *lookup ? std::string("REPROJECT_SRGB_LOOKUP=") + lookup
-                                                                          : std::string("timed at the first call"));
+  const char* lookup_env = std::getenv("REPROJECT_SRGB_LOOKUP");
+  const std::string lookup = lookup_env ? lookup_env : "";
+  benchmark::AddCustomContext("reproject_srgb_lookup", lookup == "gathers" || lookup == "permutes"
+                                                           ? "REPROJECT_SRGB_LOOKUP=" + lookup
+                                                           : std::string("timed at the first call"));
   std::snprintf(text, sizeof text, "%s, standard depth encoding, near %g, far %g", the_scene().name(),
                 the_scene().near_plane(), the_scene().far_plane());
   benchmark::AddCustomContext("reproject_scene", text);

@@ -28,8 +28,8 @@ const KernelTable* compiled_kernels(Arch arch);
 // How `kernels` reads the sRGB tables of rgba8_srgb frames, for a table with two ways
 // (KernelTable::srgb_lookup; gathers for any other): the environment variable
 // REPROJECT_SRGB_LOOKUP (`gathers` or `permutes`) when set and not empty, else the faster on this
-// processor (timed once). An unknown value is said once on stderr and ignored. The same bytes
-// either way: it only moves time.
+// processor (timed once). The variable is read at the first call, whatever the table; an unknown
+// value is said once on stderr and ignored. The same bytes either way: it only moves time.
 SrgbLookup srgb_lookup_for(const KernelTable& kernels);
 
 // The scalar reference an instruction set must match bit for bit: the baseline build with its

@@ -366,6 +366,7 @@ void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
   const RowContext<Arch> row(f, y, scratch);
   const int whole = f.target_width / L * L;
   Tally tally{};
+  tally.row_path(static_cast<int>(row.path));
   with_color_path<Arch>(row.path, [&](auto path) { resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally); });
   tally.end_row();
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail

@@ -29,9 +29,10 @@ const KernelTable& kernels_for(const Options& options) {
 }
 
 // The sRGB lookup of an rgba8_srgb frame (kernels/color_formats.hpp SrgbLookup): `forced`, or the
-// table's choice. Only tables that have both read it.
+// table's choice (gathers on a table with one way, after REPROJECT_SRGB_LOOKUP has been read, so
+// that an unknown value is said on every set). Only tables that have both read it.
 void choose_srgb_lookup(const KernelTable& kernels, Frame& frame, const detail::SrgbLookup* forced = nullptr) {
-  if (frame.color_format != ColorFormat::rgba8_srgb || kernels.srgb_lookup == nullptr) return;
+  if (frame.color_format != ColorFormat::rgba8_srgb) return;
   frame.srgb_lookup = forced ? *forced : detail::srgb_lookup_for(kernels);
 }
 

@@ -23,6 +23,7 @@
 #include "src/reproject_internal.hpp"
 #include "reproject/reproject.hpp"
 #include "support/arch_report.hpp"
+#include "tests/arch_layer/sets.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <cpuid.h>
@@ -519,6 +520,25 @@ TEST_P(FormatsEveryArch, SimdMatchesScalarAndThreads) {
           }
         }
       }
+    }
+  }
+  // Each lookup reached the resolve: the set's counting copy (tests/arch_layer/set.cpp) tells the
+  // colour path of every row it resolved.
+  const test::CountedTable counted = test::counted_kernels(arch);
+  if (counted.table != nullptr) {
+    const FormatCase fc{ColorFormat::rgba8_srgb, DepthFormat::float32};
+    const DepthDecoder decoder = decoder_for(fc, 0);
+    const Frames fr = make_frames(rng, 97, 5, fc, decoder);
+    for (detail::SrgbLookup lookup : lookups) {
+      const test::FetchModeCounts before = *counted.of_thread();
+      Outputs a;
+      ASSERT_TRUE(run(counted.table, fr, fc, true, decoder, model_for(0), options_for(Method::single, 0, 97), a, &lookup).ok());
+      const test::FetchModeCounts& after = *counted.of_thread();
+      const bool permutes = lookup == detail::SrgbLookup::permutes;
+      const int path = permutes ? test::kPathSrgbByPermutes : test::kPathSrgbByGathers;
+      const int other = permutes ? test::kPathSrgbByGathers : test::kPathSrgbByPermutes;
+      EXPECT_EQ(after.rows_by_path[path] - before.rows_by_path[path], 5u) << (permutes ? "permutes" : "gathers");
+      EXPECT_EQ(after.rows_by_path[other], before.rows_by_path[other]) << (permutes ? "permutes" : "gathers");
     }
   }
   // 1 thread = 2 threads, through the public entry point, on a frame tall enough to split.

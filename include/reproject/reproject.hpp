@@ -47,7 +47,9 @@ bool arch_supported(Arch arch) noexcept;
 // The instruction set calls use when Options::arch is unset: the best supported, chosen once, or
 // the one named by the environment variable REPROJECT_FORCE_ARCH (scalar|sse|avx2|avx512|neon) when
 // it is supported. A forced name that is unknown or not supported here selects the best supported
-// set, and the first call says so in one line on stderr.
+// set, and the first call says so in one line on stderr. (On AVX-512, the first rgba8_srgb call
+// also times two ways of reading the sRGB tables, about 0.2 ms once; REPROJECT_SRGB_LOOKUP=
+// gathers|permutes fixes the way: docs/BEHAVIOUR.md, "Instruction sets and FMA policy".)
 Arch selected_arch() noexcept;
 
 // The library's version, "MAJOR.MINOR.PATCH" (the CMake project's version): static storage, never

@@ -26,12 +26,18 @@ using SetFma = typename detail::InstructionSet<kSet>::fma;
 // The calling thread's counts of this set; each resolved row adds its own.
 const FetchModeCounts* counts_of_thread() { return fetch_mode_counts_of_thread(kSet); }
 
+static_assert(static_cast<int>(detail::ColorPath::rgba8_srgb) == kPathSrgbByGathers &&
+              static_cast<int>(detail::ColorPath::rgba8_srgb_permutes) == kPathSrgbByPermutes);
+
 struct CountingTally {
   std::uint64_t vectors[4] = {};
+  int path = 0;
   void add(int mode) { ++vectors[mode]; }
+  void row_path(int color_path) { path = color_path; }
   void end_row() {
     FetchModeCounts* counts = fetch_mode_counts_of_thread(kSet);
     for (int m = 0; m < 4; ++m) counts->vectors[m] += vectors[m];
+    ++counts->rows_by_path[path];
   }
 };
 

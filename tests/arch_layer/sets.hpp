@@ -34,9 +34,13 @@ struct ArchLayerChecks {
       xsimd_convert, xsimd_integer, xsimd_arithmetic;
 };
 
-// Vectors the resolve read in each column-fetch mode (consecutive, shifted, spanning, gather).
+// Vectors the resolve read in each column-fetch mode (consecutive, shifted, spanning, gather), and
+// rows it resolved on each colour path (kernels/resolve_simd.hpp ColorPath; set.cpp checks these
+// two indices against it).
+constexpr int kPathSrgbByGathers = 4, kPathSrgbByPermutes = 5;
 struct FetchModeCounts {
   std::uint64_t vectors[4];
+  std::uint64_t rows_by_path[6];
 };
 // The calling thread's counts for `set`. Defined in sets.cpp, compiled with the baseline flags: a
 // thread_local defined in a set's translation unit may be aligned by clang for that set's 32- or
