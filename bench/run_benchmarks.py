@@ -397,6 +397,12 @@ def write_page(data, json_path, doc_path):
         w("* Which ran: `%s`" % run_info["bench_command"])
     w("* JSON: `%s`%s" % (os.path.relpath(json_path, REPO) if json_path.startswith(REPO) else json_path,
                           ", %s s" % run_info["elapsed_s"] if "elapsed_s" in run_info else ""))
+    others = sorted(p for p in glob.glob(os.path.join(os.path.dirname(os.path.abspath(doc_path)), "PERFORMANCE*.md"))
+                    if os.path.abspath(p) != os.path.abspath(doc_path))
+    if others:
+        w("* The same benchmarks on other processors, each page from its own run (revision and date on it): %s."
+          " Speed choices can differ between processors: see \"Measured design choices\"." %
+          ", ".join("[%s](%s)" % (os.path.basename(p), os.path.basename(p)) for p in others))
 
     # Contention: with one thread the calling thread's CPU time equals the wall time unless the
     # scheduler took the core away; the ratio says how much of the wall time was someone else's.
@@ -414,7 +420,10 @@ def write_page(data, json_path, doc_path):
             100 * statistics.median(cvs), 100 * max(cvs)))
     w("")
     os.makedirs(os.path.dirname(os.path.abspath(doc_path)), exist_ok=True)
-    png = os.path.join(os.path.dirname(os.path.abspath(doc_path)), "performance.png")
+    # The chart beside the page, named after it (PERFORMANCE.md: performance.png), so that pages of
+    # other processors (PERFORMANCE_<CPU>.md, each from its own JSON) keep their own.
+    doc_stem = os.path.splitext(os.path.basename(doc_path))[0]
+    png = os.path.join(os.path.dirname(os.path.abspath(doc_path)), doc_stem.lower() + ".png")
     if draw_chart(r, present, cpu.get("model", "unknown CPU"), png):
         w("![Mpix/s per method and instruction set at 1 and 2 threads, 1080p planar RGBA, with the roofline](%s)"
           % os.path.basename(png))
