@@ -99,6 +99,11 @@ class _Stopped(KeyboardInterrupt):
 
 
 def _stop(signum, frame):
+    # Once the outputs are going into place the run has produced them: stopping then would report
+    # "no partial output left" beside complete outputs. The signal is let pass; the run ends as
+    # it would have a moment later.
+    if video._outputs_committing():
+        return
     raise _Stopped(signum)
 
 

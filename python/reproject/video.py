@@ -623,8 +623,20 @@ def _join_video(job, spec, temporary):
             out.mux(packet)
 
 
+# Set once a conversion starts renaming its outputs into place (_join): from then on the run has
+# produced them, so `python3 -m reproject` lets a stopping signal pass instead of reporting the run
+# as interrupted with no output left (__main__._stop). Cleared when a conversion starts.
+_committing = False
+
+
+def _outputs_committing():
+    """Whether the running conversion has started putting its outputs into place."""
+    return _committing
+
+
 def _join(job):
     """Every output from its parts, to a temporary name; then all renamed into place together."""
+    global _committing
     finished = []
     try:
         for spec in job.outputs:
@@ -642,6 +654,7 @@ def _join(job):
             with contextlib.suppress(OSError):
                 os.remove(temporary)
         raise
+    _committing = True
     try:
         for temporary, final in finished:
             os.replace(temporary, final)
@@ -826,6 +839,8 @@ def convert(color, depth, out, *, layout="sbsl", suffix=False, codec=None, pixel
     except _MediaError as error:
         raise _from_media(error) from None
     keep = resume or segment_frames is not None
+    global _committing
+    _committing = False
     _prepare_parts(job, resume)
     total = job.color.count
     bar = None
