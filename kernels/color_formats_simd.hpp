@@ -130,7 +130,7 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
 // Read after the clock starts and written before it stops (time_srgb_lookups), so that the
 // compiler can move none of the timed work out of the timed span.
 volatile float srgb_timing_weight = 0.375f;
-volatile std::int32_t srgb_timing_sink = 0;
+volatile std::uint32_t srgb_timing_sink = 0;
 
 // Which SrgbLookup is faster on this processor, for a set with both (has_srgb_permutes): the
 // rgba8_srgb blend of consecutive pixels (what the resolve runs on nearly every vector) timed
@@ -162,8 +162,8 @@ SrgbLookup time_srgb_lookups() {
     }
     alignas(64) std::int32_t lanes[L];
     mixed.store_aligned(lanes);
-    std::int32_t folded = 0;
-    for (std::int32_t lane : lanes) folded += lane;
+    std::uint32_t folded = 0;  // unsigned: the sum wraps (the vector sum above wraps too)
+    for (std::int32_t lane : lanes) folded += static_cast<std::uint32_t>(lane);
     srgb_timing_sink = folded;
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
