@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 
 #include "kernels/color_formats.hpp"
 #include "kernels/cpu.hpp"
@@ -28,23 +29,23 @@ const KernelTable* compiled_kernels(Arch arch) {
 
 namespace {
 
-// REPROJECT_SRGB_LOOKUP, read once: 0 unset (or empty or unknown), 1 gathers, 2 permutes.
-int srgb_lookup_from_environment() {
+// The lookup REPROJECT_SRGB_LOOKUP names; none when it is unset, empty or unknown.
+std::optional<SrgbLookup> srgb_lookup_from_environment() {
   const char* value = std::getenv("REPROJECT_SRGB_LOOKUP");
-  if (value == nullptr || *value == '\0') return 0;
-  if (std::strcmp(value, "gathers") == 0) return 1;
-  if (std::strcmp(value, "permutes") == 0) return 2;
+  if (value == nullptr || *value == '\0') return std::nullopt;
+  if (std::strcmp(value, "gathers") == 0) return SrgbLookup::gathers;
+  if (std::strcmp(value, "permutes") == 0) return SrgbLookup::permutes;
   std::fprintf(stderr, "reproject: REPROJECT_SRGB_LOOKUP='%s' is not one of gathers, permutes; ignored\n", value);
-  return 0;
+  return std::nullopt;
 }
 
 }  // namespace
 
 SrgbLookup srgb_lookup_for(const KernelTable& kernels) {
-  static const int forced = srgb_lookup_from_environment();  // first: an unknown value is said on any set
+  // Read first, once: an unknown value is said on any set.
+  static const std::optional<SrgbLookup> named = srgb_lookup_from_environment();
   if (kernels.srgb_lookup == nullptr) return SrgbLookup::gathers;
-  if (forced != 0) return forced == 2 ? SrgbLookup::permutes : SrgbLookup::gathers;
-  return kernels.srgb_lookup();
+  return named ? *named : kernels.srgb_lookup();
 }
 
 const KernelTable& reference_kernels(Arch arch) { return scalar_kernels(arch != Arch::sse); }

@@ -43,11 +43,11 @@ struct X86Set<xsimd::fma3<xsimd::avx2>> {
   // A constant whose every 128-bit part holds the words a, b, c, d (folded to one constant load;
   // a 128-bit constant broadcast is rebuilt in the loop by GCC 12).
   static __m256i each_128_bits(int a, int b, int c, int d) { return _mm256_setr_epi32(a, b, c, d, a, b, c, d); }
-  template <int Byte>
   // (Only rgba8_srgb's decode uses it. Its shuffle control is a 128-bit constant broadcast, which
   // GCC 12 rebuilds in the loop: on the Intel Xeon, rgba8_srgb ran 1.16x slower with the whole-
   // register constant (each_128_bits) and as fast with two shifts as with that, docs/PERFORMANCE.md
   // "Measured design choices".)
+  template <int Byte>
   static I byte_lanes(const I& w) {
     if constexpr (Byte == 3) return _mm256_srli_epi32(w, 24);
     constexpr char z = -128;  // a shuffle index with its top bit set writes zero

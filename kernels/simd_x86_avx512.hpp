@@ -40,10 +40,10 @@ struct X86Set<xsimd::avx512bw> {
   // A constant whose every 128-bit part holds the words a, b, c, d (folded to one constant load;
   // a 128-bit constant broadcast is rebuilt in the loop by GCC 12).
   static __m512i each_128_bits(int a, int b, int c, int d) { return _mm512_setr4_epi32(a, b, c, d); }
-  template <int Byte>
   // Two shifts, no constant (only rgba8_srgb's decode uses it): on the Intel Xeon 1.15x faster
   // rgba8_srgb than a shuffle by a whole-register constant (docs/PERFORMANCE.md "Measured design
   // choices").
+  template <int Byte>
   static I byte_lanes(const I& w) {
     if constexpr (Byte == 3) return _mm512_srli_epi32(w, 24);
     return _mm512_srli_epi32(_mm512_slli_epi32(w, 24 - 8 * Byte), 24);
