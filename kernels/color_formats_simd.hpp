@@ -25,41 +25,68 @@ constexpr bool has_srgb_permutes() {
   return Lanes<Arch>::size >= 16 && has_permute<Arch>();
 }
 
-// srgb_encode in every lane: the byte whose sRGB value is nearest to each linear value. The table
-// path is the scalar encoder's, with one gather of the bucket words. With SrgbLookup::permutes,
-// the bytes are first estimated without a gather (kernels/color_formats.hpp kSrgbPolynomial),
-// and the estimate stands when every lane is clear of a rounding boundary (else the vector takes
-// the table).
-template <class Arch, class Fma, SrgbLookup Lookup = SrgbLookup::gathers>
-REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables& tables,
-                                                                const xsimd::batch<float, Arch>& linear) {
+// srgb_encode's clamp in every lane: [lowest, 1], a NaN to lowest (the first bucket's float).
+template <class Arch>
+REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> srgb_clamp_lanes(const xsimd::batch<float, Arch>& linear) {
   REPROJECT_LANE_TYPES(Arch);
   const F lowest(float_of_bits(kSrgbFirstBucket << kSrgbBucketShift));
-  F l = xsimd::select(linear > lowest, linear, lowest);  // NaN too
-  l = xsimd::select(l < F(1.0f), l, F(1.0f));
+  const F l = xsimd::select(linear > lowest, linear, lowest);  // NaN too
+  return xsimd::select(l < F(1.0f), l, F(1.0f));
+}
+
+// srgb_encode of clamped values through the table: the scalar encoder's steps, with one gather of
+// the bucket words. The bucket's byte, plus one at or beyond its threshold: (low - step) >> 31 is
+// -1 below it.
+template <class Arch>
+REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_table_lanes(const SrgbTables& tables, const xsimd::batch<float, Arch>& l) {
+  REPROJECT_LANE_TYPES(Arch);
   const I bits = bits_of<Arch>(l);
-  static_assert(Lookup == SrgbLookup::gathers || has_srgb_permutes<Arch>());
-  if constexpr (Lookup == SrgbLookup::permutes) {
-    // l = m 2^e: m - 1 from the mantissa bits, e + 9 (at least 0) from the exponent's.
-    const F t = float_bits<Arch>((bits & I(0x7fffff)) | I(0x3f800000)) - F(1.0f);
-    F power(kSrgbPolynomial[0]);
-    for (int k = 1; k < 7; ++k) power = vmadd<Fma>(power, t, F(kSrgbPolynomial[k]));
-    const I scale_index = (bits >> 23) - I(127 + kSrgbLowestScaleExponent);
-    LaneIndex<Arch> lanes;
-    index_for_permute<Arch>(lanes, xsimd::select(scale_index > I(0), scale_index, I(0)));
-    const F scale = permute<Arch>(F::load_aligned(tables.encode_scale), lanes);
-    F estimate = vmadd<Fma>(power, scale, F(-kSrgbOffsetCodes));
-    estimate = xsimd::select(l <= F(kSrgbLinearEnd), l * F(kSrgbSlopeCodes), estimate);
-    const F half_up = estimate + F(0.5f);
-    const I code = xsimd::to_int(half_up);
-    const F past = half_up - xsimd::to_float(code);  // exact: where half_up lies between code and code + 1
-    if (!xsimd::any((past < F(kSrgbEstimateMargin)) | (past > F(1.0f - kSrgbEstimateMargin)))) return code;
-  }
-  // The bucket's byte, plus one at or beyond its threshold: (low - step) >> 31 is -1 below it.
   const I word = bits_of<Arch>(gather<Arch>(reinterpret_cast<const float*>(tables.bucket),
                                             (bits >> kSrgbBucketShift) - I(static_cast<std::int32_t>(kSrgbFirstBucket))));
   const I below = ((bits & I(static_cast<std::int32_t>(kSrgbLowMask))) - (word & I(kSrgbStepMask))) >> 31;
   return (word >> kSrgbStepBits) + I(1) + below;
+}
+
+// srgb_encode of clamped values estimated without a gather (SrgbLookup::permutes; kernels/
+// color_formats.hpp kSrgbPolynomial): `code` gets each lane's estimate, and the lanes that are set
+// in the result lie within kSrgbEstimateMargin of a rounding boundary, where the estimate may be
+// wrong (the caller takes the table for them).
+template <class Arch, class Fma>
+REPROJECT_ALWAYS_INLINE inline xsimd::batch_bool<float, Arch> srgb_estimate_lanes(const SrgbTables& tables,
+                                                                                 const xsimd::batch<float, Arch>& l,
+                                                                                 IntLanes<Arch>& code) {
+  REPROJECT_LANE_TYPES(Arch);
+  static_assert(has_srgb_permutes<Arch>());
+  const I bits = bits_of<Arch>(l);
+  // l = m 2^e: m - 1 from the mantissa bits, e + 9 (at least 0) from the exponent's.
+  const F t = float_bits<Arch>((bits & I(0x7fffff)) | I(0x3f800000)) - F(1.0f);
+  F power(kSrgbPolynomial[0]);
+  for (int k = 1; k < 7; ++k) power = vmadd<Fma>(power, t, F(kSrgbPolynomial[k]));
+  const I scale_index = (bits >> 23) - I(127 + kSrgbLowestScaleExponent);
+  LaneIndex<Arch> lanes;
+  index_for_permute<Arch>(lanes, xsimd::select(scale_index > I(0), scale_index, I(0)));
+  const F scale = permute<Arch>(F::load_aligned(tables.encode_scale), lanes);
+  F estimate = vmadd<Fma>(power, scale, F(-kSrgbOffsetCodes));
+  estimate = xsimd::select(l <= F(kSrgbLinearEnd), l * F(kSrgbSlopeCodes), estimate);
+  const F half_up = estimate + F(0.5f);
+  code = xsimd::to_int(half_up);
+  const F past = half_up - xsimd::to_float(code);  // exact: where half_up lies between code and code + 1
+  return (past < F(kSrgbEstimateMargin)) | (past > F(1.0f - kSrgbEstimateMargin));
+}
+
+// srgb_encode in every lane: the byte whose sRGB value is nearest to each linear value. Through
+// the table; with SrgbLookup::permutes, estimated first, the estimate standing when every lane is
+// clear of a rounding boundary (else the vector takes the table: the same bytes either way).
+template <class Arch, class Fma, SrgbLookup Lookup = SrgbLookup::gathers>
+REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables& tables,
+                                                                const xsimd::batch<float, Arch>& linear) {
+  static_assert(Lookup == SrgbLookup::gathers || has_srgb_permutes<Arch>());
+  const auto l = srgb_clamp_lanes<Arch>(linear);
+  if constexpr (Lookup == SrgbLookup::permutes) {
+    IntLanes<Arch> code;
+    if (!xsimd::any(srgb_estimate_lanes<Arch, Fma>(tables, l, code))) return code;
+  }
+  return srgb_table_lanes<Arch>(tables, l);
 }
 
 // The linear value of each lane's byte (0..255), bit for bit tables.to_linear[byte]: a gather, or
@@ -94,7 +121,10 @@ REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> srgb_decode_lanes(const
 // rgba8_srgb's R, G, B in linear light through the sRGB tables. Consecutive: the caller's words
 // are consecutive pixels, w1's lane i being w0's lane i + 1 (the column fetch's consecutive mode),
 // so w0's linear values are w1's moved up one lane with w0's lane 0 looked up alone: one gather
-// per channel saved, the same values. Lookup: how the sRGB tables are read (the same bytes).
+// per channel saved, the same values. Lookup: how the sRGB tables are read (the same bytes). The
+// three channels are all decoded and blended before any is encoded, which leaves the compiler
+// independent work beside each gather (faster with either lookup, docs/PERFORMANCE.md "Measured
+// design choices").
 template <class Arch, class Fma, bool Srgb, bool Consecutive = false, SrgbLookup Lookup = SrgbLookup::gathers>
 REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0,
                                                                  const IntLanes<Arch>& w1,
@@ -109,7 +139,8 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
     // Consecutive: w0's lane 0, whose bytes start the shifted-in linear values.
     std::uint32_t first_word = 0;
     if constexpr (Consecutive) first_word = bits_of_float(first_lane<Arch>(float_bits<Arch>(w0)));
-    auto channel = [&](auto c_tag) {
+    F linear[3];  // each channel's blend, clamped for the encoder
+    auto blend_channel = [&](auto c_tag) {
       constexpr int c = decltype(c_tag)::value;
       const F l1 = srgb_decode_lanes<Arch, Lookup>(*f.srgb, byte_lanes<c, Arch>(w1));
       F l0;
@@ -118,12 +149,23 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
       } else {
         l0 = srgb_decode_lanes<Arch, Lookup>(*f.srgb, byte_lanes<c, Arch>(w0));
       }
-      out = out | (srgb_encode_lanes<Arch, Fma, Lookup>(*f.srgb, vmadd<Fma>(frac, l1 - l0, l0)) << (8 * c));
+      linear[c] = srgb_clamp_lanes<Arch>(vmadd<Fma>(frac, l1 - l0, l0));
     };
-    channel(std::integral_constant<int, 0>{});
-    channel(std::integral_constant<int, 1>{});
-    channel(std::integral_constant<int, 2>{});
-    return out;
+    blend_channel(std::integral_constant<int, 0>{});
+    blend_channel(std::integral_constant<int, 1>{});
+    blend_channel(std::integral_constant<int, 2>{});
+    if constexpr (Lookup == SrgbLookup::permutes) {
+      // The three channels estimated, then one test for all. srgb_encode_lanes per channel would
+      // put a branch after each, between which the compiler does not interleave the channels'
+      // work: measured slower (docs/PERFORMANCE.md "Measured design choices").
+      I code[3];
+      const auto near = srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[0], code[0]) |
+                        srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[1], code[1]) |
+                        srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[2], code[2]);
+      if (!xsimd::any(near)) return out | code[0] | (code[1] << 8) | (code[2] << 16);
+    }
+    return out | srgb_table_lanes<Arch>(*f.srgb, linear[0]) | (srgb_table_lanes<Arch>(*f.srgb, linear[1]) << 8) |
+           (srgb_table_lanes<Arch>(*f.srgb, linear[2]) << 16);
   }
 }
 

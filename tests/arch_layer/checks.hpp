@@ -40,6 +40,7 @@ ArchLayerChecks make_arch_layer_checks() {
   c.blend_rgba8_q15 = check_blend_rgba8_q15<Arch>;
   c.srgb_decode = check_srgb_decode<Arch>;
   c.srgb_encode = check_srgb_encode<Arch, Fma>;
+  c.srgb_blend = check_srgb_blend<Arch, Fma>;
   c.load_half4 = check_load_half4<Arch>;
   c.store_half4 = check_store_half4<Arch>;
   c.xsimd_select = check_xsimd_select<Arch>;

@@ -244,6 +244,111 @@ Outcome check_srgb_encode() {
   return out;
 }
 
+// The colour twins' rgba8_srgb blend (kernels/color_formats_simd.hpp blend_rgba8; not an arch
+// layer primitive, but per set like one), with each lookup the set has, both column-fetch modes
+// (consecutive pixels or any two): every byte the scalar reference's (ColorRow::write). The blends
+// are aimed at rounding boundaries: for each code k and channel, lanes that blend k and k + 1 at a
+// weight within a few float steps of where the blend crosses the boundary between them, the other
+// channels far from any, so that a vector's one lane near a boundary is in one channel only. With
+// permutes, the encoder's estimate must be wrong in some of those lanes (counted below): a blend
+// that kept an estimate it should have replaced by the table would fail.
+template <class Arch, class Fma>
+Outcome check_srgb_blend() {
+  Outcome out;
+  using V = Vec<Arch>;
+  constexpr int L = V::L;
+  const detail::SrgbTables& tables = detail::srgb_tables();
+  detail::Frame frame;
+  frame.srgb = &tables;
+  // boundary[k]: the least float whose byte is k + 1 (srgb_encode is monotonic in the float's bits).
+  std::vector<float> boundary(255);
+  for (int k = 0; k < 255; ++k) {
+    std::uint32_t low = 0, high = 0x3f800000u;
+    while (low < high) {
+      const std::uint32_t mid = low + (high - low) / 2;
+      if (detail::srgb_encode(tables, value_of_bits(mid)) > k) high = mid; else low = mid + 1;
+    }
+    boundary[static_cast<std::size_t>(k)] = value_of_bits(low);
+  }
+  long wrong_estimates = 0;
+  std::uint32_t pixels[L + 1];
+  float frac[L];
+  std::int32_t w0[L], w1[L], got[L];
+  std::uint32_t state = 0x9e3779b9u;
+  auto next_byte = [&] {
+    state = state * 1664525u + 1013904223u;
+    return state >> 24;
+  };
+  for_each_srgb_lookup<Arch>([&](auto lookup, const char* how) {
+    constexpr detail::SrgbLookup kLookup = decltype(lookup)::value;
+    for (int channel = 0; channel < 3; ++channel) {
+      for (int k = 0; k < 255; ++k) {
+        for (int nudge = -6; nudge <= 6; nudge += 3) {
+          // Lane i blends pixels i and i + 1: in `channel`, k and k + 1 alternately.
+          for (int i = 0; i <= L; ++i) {
+            std::uint32_t p = 0;
+            for (int c = 0; c < 4; ++c) {
+              const std::uint32_t byte = c == channel ? static_cast<std::uint32_t>(k + (i % 2)) : next_byte();
+              p |= byte << (8 * c);
+            }
+            pixels[i] = p;
+          }
+          for (int i = 0; i < L; ++i) {
+            const float from = tables.to_linear[k + (i % 2)], to = tables.to_linear[k + 1 - (i % 2)];
+            float f = static_cast<float>((static_cast<double>(boundary[static_cast<std::size_t>(k)]) - from) /
+                                         (static_cast<double>(to) - from));
+            for (int step = 0; step < std::abs(nudge + i % 5); ++step) f = std::nextafter(f, nudge + i % 5 > 0 ? 2.0f : -1.0f);
+            frac[i] = std::min(1.0f, std::max(0.0f, f));
+            std::memcpy(&w0[i], &pixels[i], 4);
+            std::memcpy(&w1[i], &pixels[i + 1], 4);
+          }
+          if constexpr (kLookup == detail::SrgbLookup::permutes) {
+            alignas(64) float linear[L];
+            for (int i = 0; i < L; ++i) {
+              const std::uint32_t c0 = pixels[i] >> (8 * channel) & 0xffu, c1 = pixels[i + 1] >> (8 * channel) & 0xffu;
+              linear[i] = detail::ColorRow<Fma>::blend(frac[i], tables.to_linear[c0], tables.to_linear[c1]);
+            }
+            std::int32_t estimate[L];
+            detail::IntLanes<Arch> code;
+            (void)detail::srgb_estimate_lanes<Arch, Fma>(tables, detail::srgb_clamp_lanes<Arch>(V::F::load_unaligned(linear)), code);
+            V::ints_out(code, estimate);
+            for (int i = 0; i < L; ++i) wrong_estimates += estimate[i] != detail::srgb_encode(tables, linear[i]);
+          }
+          // Consecutive mode exists where the column fetch has it (sets with a permute).
+          for (int consecutive = 0; consecutive < (detail::has_permute<Arch>() ? 2 : 1); ++consecutive) {
+            const auto frac_lanes = V::F::load_unaligned(frac);
+            if constexpr (detail::has_permute<Arch>()) {
+              if (consecutive) {
+                V::ints_out(detail::blend_rgba8<Arch, Fma, true, true, kLookup>(frame, V::ints(w0), V::ints(w1), frac_lanes), got);
+              }
+            }
+            if (!consecutive) V::ints_out(detail::blend_rgba8<Arch, Fma, true, false, kLookup>(frame, V::ints(w0), V::ints(w1), frac_lanes), got);
+            for (int i = 0; i < L; ++i) {
+              for (int c = 0; c < 4; ++c) {
+                const std::uint8_t c0 = pixels[i] >> (8 * c) & 0xffu, c1 = pixels[i + 1] >> (8 * c) & 0xffu;
+                const std::uint8_t want =
+                    c < 3 ? detail::srgb_encode(tables, detail::ColorRow<Fma>::blend(frac[i], tables.to_linear[c0], tables.to_linear[c1]))
+                          : detail::blend_u8_q15(c0, c1, detail::weight_q15(frac[i]));
+                const auto value = static_cast<std::uint8_t>(static_cast<std::uint32_t>(got[i]) >> (8 * c));
+                ++out.lanes;
+                if (value != want) {
+                  out.fail(lane_text(i) + how + (consecutive ? "consecutive" : "any two") + " blend channel " +
+                           std::to_string(c) + " of " + std::to_string(c0) + " and " + std::to_string(c1) + " at " +
+                           show(bits_of_value(frac[i])) + " = " + std::to_string(value) + ", scalar " + std::to_string(want));
+                }
+              }
+            }
+          }
+        }
+      }
+    }
+  });
+  if constexpr (detail::has_srgb_permutes<Arch>()) {
+    if (wrong_estimates == 0) out.fail("no lane's estimate was wrong: the blends do not reach the table fallback");
+  }
+  return out;
+}
+
 template <class Arch>
 Outcome check_load_half4() {
   Outcome out;
