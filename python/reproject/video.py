@@ -804,6 +804,7 @@ def convert(color, depth, out, *, layout="sbsl", suffix=False, codec=None, pixel
     KeyboardInterrupt stops within a frame. Either way no partial output is left, and the parts
     folder only when resuming is possible (segment_frames or resume given).
     """
+    global _committing  # set by _join (see _outputs_committing)
     for name, value in (("segment_frames", segment_frames), ("workers", workers)):
         if value is not None and (not isinstance(value, int) or value < 1):
             raise ConvertError(f"{name} must be an integer >= 1, not {value!r}")
@@ -839,7 +840,6 @@ def convert(color, depth, out, *, layout="sbsl", suffix=False, codec=None, pixel
     except _MediaError as error:
         raise _from_media(error) from None
     keep = resume or segment_frames is not None
-    global _committing
     _committing = False
     _prepare_parts(job, resume)
     total = job.color.count
