@@ -23,15 +23,16 @@ constexpr int kSrgbBucketShift = 16;
 constexpr std::uint32_t kSrgbFirstBucket = 0x391fu;  // bits >> 16 of the first threshold (~1.5e-4)
 constexpr std::uint32_t kSrgbLastBucket = 0x3f80u;   // bits >> 16 of 1.0f
 constexpr int kSrgbBuckets = static_cast<int>(kSrgbLastBucket - kSrgbFirstBucket + 1);
-// The encoder's estimate (kernels/color_formats_simd.hpp srgb_encode_lanes, on sets whose vector
+// The encoder's estimate (kernels/color_formats_simd.hpp srgb_estimate_lanes, on sets whose vector
 // holds sixteen lanes): 255 encode(l) for l = m 2^e (m in [1, 2), e in [-9, 0]) is
 // 255 (1.055 m^(5/12) 2^(5e/12) - 0.055), with m^(5/12) a degree-6 polynomial in m - 1 (least
 // squares at Chebyshev nodes) and 255 * 1.055 * 2^(5e/12) from encode_scale[e + 9]; below
 // kSrgbLinearEnd the curve's linear part, 255 * 12.92 l. Evaluated in float (fused or not) it is
 // within 7.5e-5 of 255 encode(l) for every float in [kSrgbFirstBucket's, 1]: a lane whose
 // estimate + 1/2 is at least kSrgbEstimateMargin from an integer therefore rounds to the exact
-// byte; a vector with any other lane takes the table (the same bytes either way; the test
-// EverySet/ArchLayer.srgb_encode compares every float of that range where the set estimates).
+// byte; the rgba8_srgb blend takes the table for a vector with any other lane, in any channel
+// (the same bytes either way; the test EverySet/ArchLayer.srgb_encode compares every float of
+// that range where the set estimates).
 constexpr float kSrgbPolynomial[7] = {-0x1.67bafcp-9f, 0x1.b96a5cp-7f, -0x1.0e6ce2p-5f, 0x1.f8ddf4p-5f,
                                       -0x1.f03aecp-4f, 0x1.aaa4e4p-2f, 0x1.000004p+0f};  // highest power first
 constexpr float kSrgbLinearEnd = 0.0031308f;

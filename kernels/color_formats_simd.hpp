@@ -16,7 +16,7 @@ namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Sets whose vector has sixteen lanes and permutes (AVX-512) can also decode and encode sRGB
-// without gathers (SrgbLookup::permutes in srgb_decode_lanes, srgb_encode_lanes). Faster than
+// without gathers (SrgbLookup::permutes: srgb_decode_lanes, srgb_estimate_lanes). Faster than
 // their gathers on one processor, slower on another (docs/PERFORMANCE.md "Measured design
 // choices"), so such a set's table times both once (faster_srgb_lookup). AVX2's eight lanes
 // would need twice the permutes: measured slower there, it only gathers.
@@ -50,7 +50,8 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_table_lanes(const SrgbTables&
 // srgb_encode of clamped values estimated without a gather (SrgbLookup::permutes; kernels/
 // color_formats.hpp kSrgbPolynomial): `code` gets each lane's estimate, and the lanes that are set
 // in the result lie within kSrgbEstimateMargin of a rounding boundary, where the estimate may be
-// wrong (the caller takes the table for them).
+// wrong; every other lane's estimate is the table's byte. (blend_rgba8 takes the table for every
+// channel of a vector with any such lane.)
 template <class Arch, class Fma>
 REPROJECT_ALWAYS_INLINE inline xsimd::batch_bool<float, Arch> srgb_estimate_lanes(const SrgbTables& tables,
                                                                                  const xsimd::batch<float, Arch>& l,
@@ -72,21 +73,6 @@ REPROJECT_ALWAYS_INLINE inline xsimd::batch_bool<float, Arch> srgb_estimate_lane
   code = xsimd::to_int(half_up);
   const F past = half_up - xsimd::to_float(code);  // exact: where half_up lies between code and code + 1
   return (past < F(kSrgbEstimateMargin)) | (past > F(1.0f - kSrgbEstimateMargin));
-}
-
-// srgb_encode in every lane: the byte whose sRGB value is nearest to each linear value. Through
-// the table; with SrgbLookup::permutes, estimated first, the estimate standing when every lane is
-// clear of a rounding boundary (else the vector takes the table: the same bytes either way).
-template <class Arch, class Fma, SrgbLookup Lookup = SrgbLookup::gathers>
-REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> srgb_encode_lanes(const SrgbTables& tables,
-                                                                const xsimd::batch<float, Arch>& linear) {
-  static_assert(Lookup == SrgbLookup::gathers || has_srgb_permutes<Arch>());
-  const auto l = srgb_clamp_lanes<Arch>(linear);
-  if constexpr (Lookup == SrgbLookup::permutes) {
-    IntLanes<Arch> code;
-    if (!xsimd::any(srgb_estimate_lanes<Arch, Fma>(tables, l, code))) return code;
-  }
-  return srgb_table_lanes<Arch>(tables, l);
 }
 
 // The linear value of each lane's byte (0..255), bit for bit tables.to_linear[byte]: a gather, or
@@ -155,9 +141,9 @@ REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const 
     blend_channel(std::integral_constant<int, 1>{});
     blend_channel(std::integral_constant<int, 2>{});
     if constexpr (Lookup == SrgbLookup::permutes) {
-      // The three channels estimated, then one test for all. srgb_encode_lanes per channel would
-      // put a branch after each, between which the compiler does not interleave the channels'
-      // work: measured slower (docs/PERFORMANCE.md "Measured design choices").
+      // The three channels estimated, then one test for all: a test and branch per channel
+      // keeps the compiler from interleaving the channels' work, measured slower
+      // (docs/PERFORMANCE.md "Measured design choices").
       I code[3];
       const auto near = srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[0], code[0]) |
                         srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[1], code[1]) |

@@ -194,13 +194,14 @@ Outcome check_srgb_decode() {
   return out;
 }
 
-// The colour twins' sRGB encoder (kernels/color_formats_simd.hpp srgb_encode_lanes; not an arch
-// layer primitive, but per set like one), with each lookup the set has: every lane the scalar
-// encoder's byte. Where the lookup estimates the byte (permutes, AVX-512), for every float from
-// the first bucket's to 1, twice: consecutive floats in the lanes, then lanes drawn from far
-// apart so that a vector mixes lanes near and away from a rounding boundary; with gathers (the
-// scalar encoder's table) every 61st float. Then zeros, negatives, values above 1, infinities,
-// NaN and subnormals.
+// The colour twins' sRGB encoder (kernels/color_formats_simd.hpp: srgb_clamp_lanes, then
+// srgb_table_lanes, or first srgb_estimate_lanes; not arch layer primitives, but per set like
+// them), with each lookup the set has: the table's byte in every lane the scalar encoder's; where
+// the lookup estimates (permutes, AVX-512), every lane's estimate that is not flagged near a
+// rounding boundary the scalar byte too, for every float from the first bucket's to 1, twice:
+// consecutive floats in the lanes, then lanes drawn from far apart so that a vector mixes lanes
+// near and away from a boundary; with gathers every 61st float. Then zeros, negatives, values
+// above 1, infinities, NaN and subnormals.
 template <class Arch, class Fma>
 Outcome check_srgb_encode() {
   Outcome out;
@@ -208,17 +209,31 @@ Outcome check_srgb_encode() {
   constexpr int L = V::L;
   const detail::SrgbTables& tables = detail::srgb_tables();
   std::uint32_t lanes[L];
-  std::int32_t got[L];
+  std::int32_t got[L], estimate[L];
+  float near[L];
   for_each_srgb_lookup<Arch>([&](auto lookup, const char* how) {
     constexpr detail::SrgbLookup kLookup = decltype(lookup)::value;
     auto compare = [&](const char* what) {
-      V::ints_out(detail::srgb_encode_lanes<Arch, Fma, kLookup>(tables, V::floats(lanes)), got);
+      const auto clamped = detail::srgb_clamp_lanes<Arch>(V::floats(lanes));
+      V::ints_out(detail::srgb_table_lanes<Arch>(tables, clamped), got);
+      bool estimated = false;
+      if constexpr (kLookup == detail::SrgbLookup::permutes) {
+        detail::IntLanes<Arch> code;
+        const auto flagged = detail::srgb_estimate_lanes<Arch, Fma>(tables, clamped, code);
+        V::ints_out(code, estimate);
+        xsimd::select(flagged, typename V::F(1.0f), typename V::F(0.0f)).store_unaligned(near);
+        estimated = true;
+      }
       for (int i = 0; i < L; ++i) {
         const int want = detail::srgb_encode(tables, value_of_bits(lanes[i]));
         ++out.lanes;
         if (got[i] != want) {
-          out.fail(lane_text(i) + how + what + " srgb_encode(" + show(lanes[i]) + ") = " + std::to_string(got[i]) +
+          out.fail(lane_text(i) + how + what + " table srgb_encode(" + show(lanes[i]) + ") = " + std::to_string(got[i]) +
                    ", scalar " + std::to_string(want));
+        }
+        if (estimated && near[i] == 0.0f && estimate[i] != want) {
+          out.fail(lane_text(i) + how + what + " estimated srgb_encode(" + show(lanes[i]) + ") = " +
+                   std::to_string(estimate[i]) + " (not flagged near a boundary), scalar " + std::to_string(want));
         }
       }
     };
@@ -245,13 +260,14 @@ Outcome check_srgb_encode() {
 }
 
 // The colour twins' rgba8_srgb blend (kernels/color_formats_simd.hpp blend_rgba8; not an arch
-// layer primitive, but per set like one), with each lookup the set has, both column-fetch modes
-// (consecutive pixels or any two): every byte the scalar reference's (ColorRow::write). The blends
-// are aimed at rounding boundaries: for each code k and channel, lanes that blend k and k + 1 at a
-// weight within a few float steps of where the blend crosses the boundary between them, the other
-// channels far from any, so that a vector's one lane near a boundary is in one channel only. With
-// permutes, the encoder's estimate must be wrong in some of those lanes (counted below): a blend
-// that kept an estimate it should have replaced by the table would fail.
+// layer primitive, but per set like one), with each lookup the set has, in each column-fetch mode
+// the set has (any two pixels; consecutive ones where it permutes): every byte the scalar
+// reference's (ColorRow::write). For each code k and channel, blends aimed at the rounding
+// boundary between k and k + 1 (lanes that blend k and k + 1 at a weight within a few float steps
+// of where the blend crosses it; the other channels random bytes, so rarely near one), then the
+// same pixels at weights spread over [0, 1]. With permutes, both outcomes of the three channels'
+// one test must occur (counted below): vectors whose estimates are wrong in some lane, which
+// must take the table, and vectors with no lane near a boundary, which keep the estimates.
 template <class Arch, class Fma>
 Outcome check_srgb_blend() {
   Outcome out;
@@ -270,7 +286,7 @@ Outcome check_srgb_blend() {
     }
     boundary[static_cast<std::size_t>(k)] = value_of_bits(low);
   }
-  long wrong_estimates = 0;
+  long wrong_estimates = 0, kept_estimates = 0;
   std::uint32_t pixels[L + 1];
   float frac[L];
   std::int32_t w0[L], w1[L], got[L];
@@ -283,7 +299,8 @@ Outcome check_srgb_blend() {
     constexpr detail::SrgbLookup kLookup = decltype(lookup)::value;
     for (int channel = 0; channel < 3; ++channel) {
       for (int k = 0; k < 255; ++k) {
-        for (int nudge = -6; nudge <= 6; nudge += 3) {
+        constexpr int kSpread = 100;  // not a nudge: the weights spread over [0, 1], not aimed
+        for (const int nudge : {-6, -3, 0, 3, 6, kSpread}) {
           // Lane i blends pixels i and i + 1: in `channel`, k and k + 1 alternately.
           for (int i = 0; i <= L; ++i) {
             std::uint32_t p = 0;
@@ -297,22 +314,30 @@ Outcome check_srgb_blend() {
             const float from = tables.to_linear[k + (i % 2)], to = tables.to_linear[k + 1 - (i % 2)];
             float f = static_cast<float>((static_cast<double>(boundary[static_cast<std::size_t>(k)]) - from) /
                                          (static_cast<double>(to) - from));
-            for (int step = 0; step < std::abs(nudge + i % 5); ++step) f = std::nextafter(f, nudge + i % 5 > 0 ? 2.0f : -1.0f);
+            for (int step = 0; nudge != kSpread && step < std::abs(nudge + i % 5); ++step) {
+              f = std::nextafter(f, nudge + i % 5 > 0 ? 2.0f : -1.0f);
+            }
+            if (nudge == kSpread) f = (static_cast<float>(i) + 0.5f + 0.0625f * static_cast<float>(k % 16)) / static_cast<float>(L + 1);
             frac[i] = std::min(1.0f, std::max(0.0f, f));
             std::memcpy(&w0[i], &pixels[i], 4);
             std::memcpy(&w1[i], &pixels[i + 1], 4);
           }
           if constexpr (kLookup == detail::SrgbLookup::permutes) {
-            alignas(64) float linear[L];
-            for (int i = 0; i < L; ++i) {
-              const std::uint32_t c0 = pixels[i] >> (8 * channel) & 0xffu, c1 = pixels[i + 1] >> (8 * channel) & 0xffu;
-              linear[i] = detail::ColorRow<Fma>::blend(frac[i], tables.to_linear[c0], tables.to_linear[c1]);
+            bool any_near = false;
+            for (int c = 0; c < 3; ++c) {
+              alignas(64) float linear[L];
+              for (int i = 0; i < L; ++i) {
+                const std::uint32_t c0 = pixels[i] >> (8 * c) & 0xffu, c1 = pixels[i + 1] >> (8 * c) & 0xffu;
+                linear[i] = detail::ColorRow<Fma>::blend(frac[i], tables.to_linear[c0], tables.to_linear[c1]);
+              }
+              std::int32_t estimate[L];
+              detail::IntLanes<Arch> code;
+              any_near |= xsimd::any(
+                  detail::srgb_estimate_lanes<Arch, Fma>(tables, detail::srgb_clamp_lanes<Arch>(V::F::load_unaligned(linear)), code));
+              V::ints_out(code, estimate);
+              for (int i = 0; i < L; ++i) wrong_estimates += estimate[i] != detail::srgb_encode(tables, linear[i]);
             }
-            std::int32_t estimate[L];
-            detail::IntLanes<Arch> code;
-            (void)detail::srgb_estimate_lanes<Arch, Fma>(tables, detail::srgb_clamp_lanes<Arch>(V::F::load_unaligned(linear)), code);
-            V::ints_out(code, estimate);
-            for (int i = 0; i < L; ++i) wrong_estimates += estimate[i] != detail::srgb_encode(tables, linear[i]);
+            kept_estimates += !any_near;
           }
           // Consecutive mode exists where the column fetch has it (sets with a permute).
           for (int consecutive = 0; consecutive < (detail::has_permute<Arch>() ? 2 : 1); ++consecutive) {
@@ -345,6 +370,7 @@ Outcome check_srgb_blend() {
   });
   if constexpr (detail::has_srgb_permutes<Arch>()) {
     if (wrong_estimates == 0) out.fail("no lane's estimate was wrong: the blends do not reach the table fallback");
+    if (kept_estimates == 0) out.fail("every vector had a lane near a rounding boundary: no blend kept its estimates");
   }
   return out;
 }

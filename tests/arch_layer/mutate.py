@@ -42,13 +42,16 @@ X86 = [
     ("gather", "simd_x86_avx2.hpp", "_mm256_i32gather_ps(base, index, 4)", "_mm256_i32gather_ps(base + 1, index, 4)"),
     # The sRGB decoder (AVX-512): two parts swapped; an index of four bits. Its encoder's estimate:
     # no margin round a rounding boundary; a coefficient 4e-6 off (1e-3 codes at the top). The
-    # rgba8_srgb blend (permutes): its one test of the three channels skipped, or blind to one.
+    # rgba8_srgb blend (permutes): its one test of the three channels skipped, or blind to one; the
+    # kept estimates' channels swapped.
     ("srgb_decode", "color_formats_simd.hpp", "xsimd::select(bit5, part[7], part[6])", "xsimd::select(bit5, part[6], part[7])"),
     ("srgb_decode", "color_formats_simd.hpp", "index_for_two_registers<Arch>(lanes, bytes & I(31));",
      "index_for_two_registers<Arch>(lanes, bytes & I(15));"),
     ("srgb_encode", "color_formats.hpp", "kSrgbEstimateMargin = 0x1p-13f;", "kSrgbEstimateMargin = 0x1p-24f;"),
     ("srgb_encode", "color_formats.hpp", "0x1.aaa4e4p-2f, 0x1.000004p+0f}", "0x1.aaa4e4p-2f, 0x1.000040p+0f}"),
     ("srgb_blend", "color_formats_simd.hpp", "if (!xsimd::any(near)) return out", "if (true) return out"),
+    ("srgb_blend", "color_formats_simd.hpp", "return out | code[0] | (code[1] << 8) | (code[2] << 16);",
+     "return out | code[0] | (code[2] << 8) | (code[1] << 16);"),
     ("srgb_blend", "color_formats_simd.hpp", "srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[1], code[1]) |",
      "srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[1], code[1]) & xsimd::batch_bool<float, Arch>(false) |"),
     ("lane_extreme", "simd_x86.hpp", "lane_extreme_key<Max>(total_order_key(bits_of<Arch>(v)))",
