@@ -16,9 +16,13 @@ import pytest
 import reproject
 
 CHILD = r"""
-import sys, threading, time
+import signal, sys, threading, time
 import numpy as np
 import reproject
+
+# Python leaves SIGINT ignored when it starts with it ignored (a shell's background job, nohup):
+# the handler that raises KeyboardInterrupt is installed here whatever the parent left.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 
 height, width = 4320, 7680
 x = np.arange(width, dtype=np.float32)
@@ -63,8 +67,9 @@ def run_child(delay):
         time.sleep(delay)
         sent = time.clock_gettime(time.CLOCK_MONOTONIC)
         child.send_signal(signal.SIGINT)
-        lines = child.stdout.read().splitlines()
-        assert child.wait(timeout=60) == 0
+        out, _ = child.communicate(timeout=120)  # a child that ignored the signal fails, not hangs
+        lines = out.splitlines()
+        assert child.returncode == 0
     finally:
         if child.poll() is None:
             child.kill()
