@@ -31,7 +31,16 @@ REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> srgb_clamp_lanes(const 
   REPROJECT_LANE_TYPES(Arch);
   const F lowest(float_of_bits(kSrgbFirstBucket << kSrgbBucketShift));
   const F l = xsimd::select(linear > lowest, linear, lowest);  // NaN too
-  return xsimd::select(l < F(1.0f), l, F(1.0f));
+  const F clamped = xsimd::select(l < F(1.0f), l, F(1.0f));
+#if defined(__aarch64__) || defined(_M_ARM64)
+  // clang for AArch64 may fold the two selects into fmaxnm and fminnm, which turn a signalling NaN
+  // into 1 instead of lowest (as srgb_encode says of the scalar twin): NaN lanes are found by
+  // their bits, which it cannot fold. (No blend makes a NaN; the contract holds for any input.)
+  const I magnitude = bits_of<Arch>(linear) & I(0x7fffffff);
+  return float_bits<Arch>(xsimd::select(magnitude > I(0x7f800000), bits_of<Arch>(lowest), bits_of<Arch>(clamped)));
+#else
+  return clamped;
+#endif
 }
 
 // srgb_encode of clamped values through the table: the scalar encoder's steps, with one gather of
