@@ -16,6 +16,7 @@ using DecodeRow = void (*)(const Frame& f, const std::uint8_t* depth, float* par
 using SearchRow = void (*)(const Frame& f, RowScratch& scratch);
 using ResolveRow = void (*)(const Frame& f, int y, const RowScratch& scratch);
 using NearestKey = float (*)(const Frame& f, const std::uint8_t* depth);  // max of key_far and s * p over a row
+using SearchAndResolveRow = void (*)(const Frame& f, int y, RowScratch& scratch);
 
 struct KernelTable {
   const char* name;
@@ -23,6 +24,9 @@ struct KernelTable {
   NearestKey nearest_key;
   SearchRow search[kMethodCount];
   ResolveRow resolve;
+  // `single`'s search and the resolve in one pass over the row, the same bits as the two in turn;
+  // null: the two in turn (the scalar tables).
+  SearchAndResolveRow single_and_resolve;
   // Sets with two ways to read the sRGB tables (kernels/color_formats.hpp SrgbLookup): the
   // faster on this processor, timed at its first call (kernels/color_formats_simd.hpp
   // faster_srgb_lookup). Null on the others: they gather.

@@ -316,33 +316,50 @@ struct WriteHits {
   }
 };
 
+// Where the hit loop takes each vector's x and clipped flags from: the rows the search stage
+// wrote into the scratch (StoredSearch), or, for `single`, computed in the loop (SingleProbe,
+// kernels/single_simd.hpp: no pass of its own, no stores and loads between the stages). A policy
+// gives x(t), then clipped(t); keep(t, x, clipped) before a vector goes to resolve_vector (which
+// reads the scratch); next() after every vector, in order.
+template <class Arch>
+struct StoredSearch {
+  const float* source_x;
+  const float* clipped_flags;
+  REPROJECT_ALWAYS_INLINE auto x(int t) const { return Lanes<Arch>::F::load_unaligned(source_x + t); }
+  REPROJECT_ALWAYS_INLINE auto clipped(int t) const { return load_flags<Arch>(clipped_flags + t); }
+  template <class X, class C> REPROJECT_ALWAYS_INLINE void keep(int, const X&, const C&) const {}  // stored
+  REPROJECT_ALWAYS_INLINE void next() const {}
+};
+
 // The row's vectors (target pixels [0, whole)), each either plain (hits and clipped lanes in the
 // row), done here, or handed to resolve_vector. For plain lanes resolve_vector computes the same:
 // nothing is outside, so xs = x, the clamp leaves x (but turns -0 into +0: kept as vmax), a
 // clipped lane is never a hole, no lane is masked or black, and the status is hit (0) or clipped (3).
 // (Out of line, one call per row: so that each path's loop is a function of its own in profiles
 // and instruction counts, bench/instruction_count.py, whatever the compiler would have inlined.)
-template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally>
-REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whole, Tally& tally) {
+template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally, class Search>
+REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whole, Tally& tally, Search search) {
   REPROJECT_LANE_TYPES(Arch);
   // A copy the compiler can keep in registers: the stores below go through byte pointers, which
   // may alias anything, so fields read through a reference would be reloaded after each of them.
   const RowContext<Arch> row = whole_row;
   const F zero(0.0f), one(1.0f);
   ColumnFetch<Arch> columns(row.source_width);
-  for (int t = 0; t < whole; t += L) {
-    const F x = F::load_unaligned(row.source_x + t);
+  for (int t = 0; t < whole; t += L, search.next()) {
+    const F x = search.x(t);
     // All in [0, last] (a NaN x fails too, and takes the general path).
     if (!xsimd::all((x >= zero) & (x <= row.last))) {
+      search.keep(t, x, search.clipped(t));
       resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;
     }
-    const B clipped = load_flags<Arch>(row.clipped + t);
+    const B clipped = search.clipped(t);
     const F xc = vmax(x, zero);
     const F j0 = vfloor(xc);
     const F j1 = vmin(j0 + one, row.last);
     const F frac = xc - j0;
     if (!columns.plan_next_and_visit(j0, j1, WriteHits<Path, WithDepth, Arch, Fma, Tally>{row, tally, t, j0, j1, frac, clipped})) {
+      search.keep(t, x, clipped);
       resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;
     }
@@ -353,23 +370,30 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
   }
 }
 
-template <ColorPath Path, class Arch, class Fma, class Tally>
-void resolve_hits_of_path(const RowContext<Arch>& row, int whole, Tally& tally) {
-  if (row.depth_out) resolve_hits<Path, true, Arch, Fma>(row, whole, tally);
-  else resolve_hits<Path, false, Arch, Fma>(row, whole, tally);
+template <ColorPath Path, class Arch, class Fma, class Tally, class Search>
+void resolve_hits_of_path(const RowContext<Arch>& row, int whole, Tally& tally, const Search& search) {
+  if (row.depth_out) resolve_hits<Path, true, Arch, Fma>(row, whole, tally, search);
+  else resolve_hits<Path, false, Arch, Fma>(row, whole, tally, search);
 }
 
-// Scalar twin: resolve_pixels.
-template <class Arch, class Fma, class Tally = NoFetchTally>
-void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
+// Row y's resolve, the vectors' x and clipped flags from `search`. Scalar twin: resolve_pixels.
+template <class Arch, class Fma, class Tally, class Search>
+void simd_resolve_with(const Frame& f, int y, const RowScratch& scratch, const Search& search) {
   constexpr int L = Lanes<Arch>::size;
   const RowContext<Arch> row(f, y, scratch);
   const int whole = f.target_width / L * L;
   Tally tally{};
   tally.row_path(static_cast<int>(row.path));
-  with_color_path<Arch>(row.path, [&](auto path) { resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally); });
+  with_color_path<Arch>(row.path, [&](auto path) {
+    resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally, search);
+  });
   tally.end_row();
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail
+}
+
+template <class Arch, class Fma, class Tally = NoFetchTally>
+void simd_resolve(const Frame& f, int y, const RowScratch& scratch) {
+  simd_resolve_with<Arch, Fma, Tally>(f, y, scratch, StoredSearch<Arch>{scratch.source_x.data(), scratch.clipped.data()});
 }
 
 }  // namespace

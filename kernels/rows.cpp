@@ -22,6 +22,10 @@ void pad_parallax_row(const Frame& f, float* parallax) {
 // decode.
 void search_and_resolve(const Frame& f, const KernelTable& kernels, RowScratch& scratch, float* parallax, int y) {
   pad_parallax_row(f, parallax);
+  if (f.method == Method::single && kernels.single_and_resolve) {
+    kernels.single_and_resolve(f, y, scratch);
+    return;
+  }
   kernels.search[static_cast<int>(f.method)](f, scratch);
   kernels.resolve(f, y, scratch);
 }
