@@ -316,15 +316,14 @@ struct WriteHits {
   }
 };
 
-// Where the hit loop takes each vector's x and clipped flags from: the rows the search stage
-// wrote into the scratch (StoredSearch), or, for `single`, computed in the loop (SingleProbe,
-// kernels/single_simd.hpp: no pass of its own, no stores and loads between the stages). A policy
-// gives x(t), then clipped(t); keep(t, x, clipped) before a vector goes to resolve_vector (which
-// reads the scratch); next() after every vector, in order.
+// The hit loop's source of x and clipped flags: the scratch's (StoredSearch) or `single`'s own
+// (kernels/single_simd.hpp SingleProbe). x(t), then clipped(t); keep(...) before resolve_vector
+// (which reads the scratch); next() after every vector; serves(path): the paths it is built for.
 template <class Arch>
 struct StoredSearch {
   const float* source_x;
   const float* clipped_flags;
+  static constexpr bool serves(ColorPath) { return true; }
   REPROJECT_ALWAYS_INLINE auto x(int t) const { return Lanes<Arch>::F::load_unaligned(source_x + t); }
   REPROJECT_ALWAYS_INLINE auto clipped(int t) const { return load_flags<Arch>(clipped_flags + t); }
   template <class X, class C> REPROJECT_ALWAYS_INLINE void keep(int, const X&, const C&) const {}  // stored
@@ -385,7 +384,8 @@ void simd_resolve_with(const Frame& f, int y, const RowScratch& scratch, const S
   Tally tally{};
   tally.row_path(static_cast<int>(row.path));
   with_color_path<Arch>(row.path, [&](auto path) {
-    resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally, search);
+    constexpr ColorPath kPath = decltype(path)::value;
+    if constexpr (Search::serves(kPath)) resolve_hits_of_path<kPath, Arch, Fma>(row, whole, tally, search);
   });
   tally.end_row();
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail

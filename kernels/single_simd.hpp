@@ -31,6 +31,10 @@ struct SingleProbe {
         key_near(f.key_near),
         target(F(static_cast<float>(f.guard)) + lane_offsets<Arch>()) {}
 
+  // Not rgba8_srgb, whose resolve measured slower with the search inside it (docs/PERFORMANCE.md
+  // "Measured design choices"): simd_single_and_resolve runs the two stages in turn for it.
+  static constexpr bool serves(ColorPath path) { return !is_word_path(path) || path == ColorPath::rgba8; }
+
   REPROJECT_ALWAYS_INLINE F x(int t) {
     surface = F::load_unaligned(probe_row + t);
     return target - surface;
@@ -58,13 +62,12 @@ void simd_single(const Frame& f, RowScratch& scratch) {
 
 // `single`'s search and the resolve as one pass over the row (KernelTable::single_and_resolve):
 // the hit loop computes each vector's x and clipped flags itself (SingleProbe); the scalar search
-// gives the tail's. The same bits as simd_single then simd_resolve. Not for rgba8_srgb, whose
-// resolve measured slower this way (docs/PERFORMANCE.md "Measured design choices"): the two
-// stages in turn.
+// gives the tail's. The same bits as simd_single then simd_resolve, which a colour path that
+// SingleProbe does not serve takes instead.
 template <class Arch, class Fma, class Tally = NoFetchTally>
 void simd_single_and_resolve(const Frame& f, int y, RowScratch& scratch) {
   constexpr int L = Lanes<Arch>::size;
-  if (f.color_format == ColorFormat::rgba8_srgb) {
+  if (!SingleProbe<Arch>::serves(color_path_of<Arch>(f))) {
     simd_single<Arch, Fma>(f, scratch);
     simd_resolve<Arch, Fma, Tally>(f, y, scratch);
     return;
