@@ -101,6 +101,14 @@ xsimd::batch<std::int32_t, Arch> blend_rgba8_q15(const xsimd::batch<std::int32_t
                                                  const xsimd::batch<std::int32_t, Arch>& c1,
                                                  const xsimd::batch<std::int32_t, Arch>& weight);
 
+// RGBA8 pixels' channel pairs too far apart for rgba8_srgb to blend the bytes themselves: 0xff in
+// each R, G and B byte whose c0 and c1 are not srgb_pair_near (kernels/codes.hpp:
+// |c1 - c0| > 10 + (min(c0, c1) + 4) / 8, the + 4 saturating at 255), 0 in every other byte
+// (alpha included).
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> srgb_far_pairs(const xsimd::batch<std::int32_t, Arch>& c0,
+                                                const xsimd::batch<std::int32_t, Arch>& c1);
+
 // ---- Reading a row at data-dependent columns ----
 
 // Lane i is the 4 bytes at base + index[i] (in floats), bit for bit. `base` may sit at any byte

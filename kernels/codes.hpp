@@ -57,6 +57,38 @@ inline std::uint8_t blend_u8_q15(std::uint8_t c0, std::uint8_t c1, std::int32_t 
   const std::int32_t d = static_cast<std::int32_t>(c1) - static_cast<std::int32_t>(c0);
   return static_cast<std::uint8_t>(c0 + ((d * w + 16384) >> 15));
 }
+// rgba8_srgb: whether two bytes of a channel are near enough that their blend_u8_q15, the blend of
+// the bytes themselves, is within one code of the sRGB-correct byte (the one nearest the blend of
+// their linear values) at every weight: |c1 - c0| <= 10 + (min(c0, c1) + 4) / 8. The sRGB curve
+// bends less where it is brighter, so brighter pairs may lie further apart. The bound is the
+// largest of its form that holds for all 65,536 pairs at every weight; tests/test_pixel_formats.cpp
+// checks it over all pairs (docs/BEHAVIOUR.md "Pixel formats"). The SIMD twins saturate the + 4 at
+// 255, which changes no answer: from 252 up no two bytes differ by more than 3.
+inline bool srgb_pair_near(std::uint8_t c0, std::uint8_t c1) noexcept {
+  const int low = c0 < c1 ? c0 : c1, high = c0 < c1 ? c1 : c0;
+  return high - low <= 10 + ((low + 4) >> 3);
+}
+// rgba8_srgb, a pair that is not near: whether srgb_second_order_blend is within one code of the
+// sRGB-correct byte at every frac: |c1 - c0| <= min(c0, c1) + 9, i.e. the brighter byte at most
+// twice the darker plus 9. The largest bound of the form min + k that holds for all pairs (checked
+// as srgb_pair_near is).
+inline bool srgb_pair_second_order(std::uint8_t c0, std::uint8_t c1) noexcept {
+  const int low = c0 < c1 ? c0 : c1, high = c0 < c1 ? c1 : c0;
+  return high - low <= low + 9;
+}
+// The bytes' blend with the sRGB curve's bend to second order: with d = c1 - c0 and x = c0 + frac d,
+// x + 0.7 frac (1 - frac) d^2 / (x + 14.025), rounded to the nearest byte (ties to even). The
+// curve's power part is ((c + 14.025) / 269.025)^2.4 in codes c, whose second derivative over its
+// first is 1.4 / (c + 14.025): a blend in linear light lies above the bytes' blend by half that
+// times frac (1 - frac) d^2, to second order. Each operation rounded to float, in this order
+// (the SIMD twin's, with no FMA anywhere); the result lies between c0 and c1 for every
+// srgb_pair_second_order pair (tests/test_pixel_formats.cpp).
+inline std::uint8_t srgb_second_order_blend(std::uint8_t c0, std::uint8_t c1, float frac) noexcept {
+  const float a = static_cast<float>(c0), d = static_cast<float>(c1) - a;
+  const float x = a + frac * d;
+  const float bend = (frac - frac * frac) * (d * d) * 0.7f / (x + 14.025f);
+  return static_cast<std::uint8_t>(round_even(x + bend));
+}
 
 // UNORM: the value code / max (max = 2^bits - 1) correctly rounded, and the code of a value.
 inline float unorm_value(std::uint32_t code, float max) noexcept { return static_cast<float>(code) / max; }

@@ -73,11 +73,24 @@ inline std::uint8_t srgb_encode(const SrgbTables& tables, float linear) noexcept
   return static_cast<std::uint8_t>((word >> kSrgbStepBits) + (low >= (word & kSrgbStepMask) ? 1 : 0));
 }
 
+// rgba8_srgb: an R, G or B byte of two pixels blended at `frac` (ColorRow::write). Where the two
+// bytes are near (srgb_pair_near), the bytes themselves blended as rgba8's; else where the pair
+// allows it (srgb_pair_second_order), the bytes' blend bent as the curve bends it; both within one
+// code of the byte nearest the exact blend (docs/BEHAVIOUR.md "Pixel formats"). Any other pair
+// (an edge): the two bytes' linear values blended (madd with the table's FMA policy) and encoded
+// exactly.
+template <class Fma>
+std::uint8_t blend_srgb_byte(const SrgbTables& tables, std::uint8_t c0, std::uint8_t c1, float frac) noexcept {
+  if (srgb_pair_near(c0, c1)) return blend_u8_q15(c0, c1, weight_q15(frac));
+  if (srgb_pair_second_order(c0, c1)) return srgb_second_order_blend(c0, c1, frac);
+  return srgb_encode(tables, madd<Fma>(frac, tables.to_linear[c1] - tables.to_linear[c0], tables.to_linear[c0]));
+}
+
 // A row's colour in its format: writes target pixel t as source columns j0 and j1 blended at
 // `frac` (c0 + frac (c1 - c0) per channel with the table's FMA policy), or as zeros (`black`).
 // Float values are blended as they are; rgba8 as the byte values, rgba8_srgb's R, G, B as their
-// linear values, rgba16f as the halves' values; then each is stored in the format, rounded to
-// nearest even (docs/BEHAVIOUR.md "Pixel formats").
+// linear values (blend_srgb_byte), rgba16f as the halves' values; then each is stored in the format, rounded to nearest even
+// (docs/BEHAVIOUR.md "Pixel formats").
 template <class Fma>
 struct ColorRow {
   ColorFormat format;
@@ -121,7 +134,7 @@ struct ColorRow {
           std::uint8_t value = 0;
           if (black) {
           } else if (format == ColorFormat::rgba8_srgb && c < 3) {
-            value = srgb_encode(*srgb, blend(frac, srgb->to_linear[c0], srgb->to_linear[c1]));
+            value = blend_srgb_byte<Fma>(*srgb, c0, c1, frac);
           } else {
             value = blend_u8_q15(c0, c1, weight_q15(frac));
           }

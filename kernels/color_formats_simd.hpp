@@ -110,57 +110,85 @@ REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> srgb_decode_lanes(const
   }
 }
 
-// rgba8 / rgba8_srgb: L pixels' words blended (scalar twin: ColorRow::write). The bytes of rgba8
-// (and rgba8_srgb's alpha) in fixed point, every channel of every pixel at once (the arch layer's
-// blend_rgba8_q15: the same integers as blend_u8_q15, so every set stores the same bytes);
-// rgba8_srgb's R, G, B in linear light through the sRGB tables. Consecutive: the caller's words
-// are consecutive pixels, w1's lane i being w0's lane i + 1 (the column fetch's consecutive mode),
-// so w0's linear values are w1's moved up one lane with w0's lane 0 looked up alone: one gather
-// per channel saved, the same values. Lookup: how the sRGB tables are read (the same bytes). The
-// three channels are all decoded and blended before any is encoded, which leaves the compiler
-// independent work beside each gather (faster with either lookup, docs/PERFORMANCE.md "Measured
-// design choices").
-template <class Arch, class Fma, bool Srgb, bool Consecutive = false, SrgbLookup Lookup = SrgbLookup::gathers>
-REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0,
+// rgba8_srgb's channel C (0..2) of L pixels' words blended in linear light through the sRGB
+// tables (scalar twin: ColorRow::write where the pair is not srgb_pair_near): each lane's byte,
+// 0..255. Consecutive: the caller's words are consecutive pixels, w1's lane i being w0's lane
+// i + 1 (the column fetch's consecutive mode), so w0's linear values are w1's moved up one lane
+// with w0's lane 0 looked up alone: one gather saved, the same values. Lookup: how the sRGB tables
+// are read (the same bytes).
+template <int C, class Arch, class Fma, bool Consecutive, SrgbLookup Lookup>
+REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_srgb_channel(const Frame& f, const IntLanes<Arch>& w0,
                                                                  const IntLanes<Arch>& w1,
                                                                  const xsimd::batch<float, Arch>& frac) {
+  using F = typename Lanes<Arch>::F;
+  using I = IntLanes<Arch>;
+  const F l1 = srgb_decode_lanes<Arch, Lookup>(*f.srgb, byte_lanes<C, Arch>(w1));
+  F l0;
+  if constexpr (Consecutive) {
+    const std::uint32_t first_word = bits_of_float(first_lane<Arch>(float_bits<Arch>(w0)));
+    l0 = shift_in_first<Arch>(l1, f.srgb->to_linear[(first_word >> (8 * C)) & 0xffu]);
+  } else {
+    l0 = srgb_decode_lanes<Arch, Lookup>(*f.srgb, byte_lanes<C, Arch>(w0));
+  }
+  const F linear = srgb_clamp_lanes<Arch>(vmadd<Fma>(frac, l1 - l0, l0));
+  if constexpr (Lookup == SrgbLookup::permutes) {
+    I code;
+    if (!xsimd::any(srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear, code))) return code;
+  }
+  return srgb_table_lanes<Arch>(*f.srgb, linear);
+}
+
+// rgba8_srgb's channel C of L pixels' words as srgb_second_order_blend (kernels/codes.hpp) blends
+// it, the same float operations in the same order; `beyond` gets the lanes whose pair is not
+// srgb_pair_second_order (|d| > min + 9, compared squared: exact, the values small integers).
+template <int C, class Arch>
+REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_srgb_second_order(const IntLanes<Arch>& w0, const IntLanes<Arch>& w1,
+                                                                      const xsimd::batch<float, Arch>& frac,
+                                                                      xsimd::batch_bool<float, Arch>& beyond) {
+  using F = typename Lanes<Arch>::F;
+  const F a = xsimd::to_float(byte_lanes<C, Arch>(w0)), b = xsimd::to_float(byte_lanes<C, Arch>(w1));
+  const F d = b - a;
+  const F limit = vmin(a, b) + F(9.0f);
+  beyond = d * d > limit * limit;
+  const F x = a + frac * d;
+  const F bend = vdiv((frac - frac * frac) * (d * d) * F(0.7f), x + F(14.025f));
+  return round_to_int<Arch>(x + bend);
+}
+
+// rgba8 / rgba8_srgb: L pixels' words blended (scalar twin: ColorRow::write). The bytes in fixed
+// point, every channel of every pixel at once (the arch layer's blend_rgba8_q15: the same integers
+// as blend_u8_q15, so every set stores the same bytes): all of rgba8, and of rgba8_srgb the alpha
+// and each R, G, B byte whose pair is near (srgb_far_pairs). A channel with a far pair in some
+// lane takes, in those lanes, the second-order blend (blend_srgb_second_order), or where even that
+// is too far, the blend in linear light (blend_srgb_channel), which only such a channel computes.
+template <class Arch, class Fma, bool Srgb, bool Consecutive = false, SrgbLookup Lookup = SrgbLookup::gathers>
+REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> blend_rgba8(const Frame& f, const IntLanes<Arch>& w0,
+                                                          const IntLanes<Arch>& w1, const xsimd::batch<float, Arch>& frac) {
   using F = typename Lanes<Arch>::F;
   using I = IntLanes<Arch>;
   const I fixed = blend_rgba8_q15<Arch>(w0, w1, xsimd::to_int(frac * F(32768.0f)));  // weight_q15
   if constexpr (!Srgb) {
     return fixed;
   } else {
-    I out = fixed & I(static_cast<std::int32_t>(0xff000000u));  // alpha as rgba8
-    // Consecutive: w0's lane 0, whose bytes start the shifted-in linear values.
-    std::uint32_t first_word = 0;
-    if constexpr (Consecutive) first_word = bits_of_float(first_lane<Arch>(float_bits<Arch>(w0)));
-    F linear[3];  // each channel's blend, clamped for the encoder
-    auto blend_channel = [&](auto c_tag) {
+    const I far = srgb_far_pairs<Arch>(w0, w1);
+    if (!xsimd::any(far != I(0))) return fixed;
+    I out = fixed;
+    auto channel = [&](auto c_tag) {
       constexpr int c = decltype(c_tag)::value;
-      const F l1 = srgb_decode_lanes<Arch, Lookup>(*f.srgb, byte_lanes<c, Arch>(w1));
-      F l0;
-      if constexpr (Consecutive) {
-        l0 = shift_in_first<Arch>(l1, f.srgb->to_linear[(first_word >> (8 * c)) & 0xffu]);
-      } else {
-        l0 = srgb_decode_lanes<Arch, Lookup>(*f.srgb, byte_lanes<c, Arch>(w0));
+      const I far_c = far & I(0xff << (8 * c));
+      if (!xsimd::any(far_c != I(0))) return;
+      typename Lanes<Arch>::B beyond;
+      I code = blend_srgb_second_order<c, Arch>(w0, w1, frac, beyond);
+      if (xsimd::any(beyond)) {
+        const I linear = blend_srgb_channel<c, Arch, Fma, Consecutive, Lookup>(f, w0, w1, frac);
+        code = bits_of<Arch>(xsimd::select(beyond, float_bits<Arch>(linear), float_bits<Arch>(code)));
       }
-      linear[c] = srgb_clamp_lanes<Arch>(vmadd<Fma>(frac, l1 - l0, l0));
+      out = (out & ~far_c) | ((code << (8 * c)) & far_c);
     };
-    blend_channel(std::integral_constant<int, 0>{});
-    blend_channel(std::integral_constant<int, 1>{});
-    blend_channel(std::integral_constant<int, 2>{});
-    if constexpr (Lookup == SrgbLookup::permutes) {
-      // The three channels estimated, then one test for all: a test and branch per channel
-      // keeps the compiler from interleaving the channels' work, measured slower
-      // (docs/PERFORMANCE.md "Measured design choices").
-      I code[3];
-      const auto near = srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[0], code[0]) |
-                        srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[1], code[1]) |
-                        srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[2], code[2]);
-      if (!xsimd::any(near)) return out | code[0] | (code[1] << 8) | (code[2] << 16);
-    }
-    return out | srgb_table_lanes<Arch>(*f.srgb, linear[0]) | (srgb_table_lanes<Arch>(*f.srgb, linear[1]) << 8) |
-           (srgb_table_lanes<Arch>(*f.srgb, linear[2]) << 16);
+    channel(std::integral_constant<int, 0>{});
+    channel(std::integral_constant<int, 1>{});
+    channel(std::integral_constant<int, 2>{});
+    return out;
   }
 }
 
@@ -170,9 +198,9 @@ volatile float srgb_timing_weight = 0.375f;
 volatile std::uint32_t srgb_timing_sink = 0;
 
 // Which SrgbLookup is faster on this processor, for a set with both (has_srgb_permutes): the
-// rgba8_srgb blend of consecutive pixels (what the resolve runs on nearly every vector) timed
-// with each in turn, best of five, on 1024 pixels of pseudo-random bytes, the tables in cache as
-// in a frame. About 0.2 ms. Noise can only cost speed, never change a byte: both lookups give
+// rgba8_srgb blend in linear light of consecutive pixels (what the resolve runs on every vector
+// with a far pair) timed with each in turn, best of five, on 1024 pixels of pseudo-random bytes,
+// the tables in cache as in a frame. About 0.2 ms. Noise can only cost speed, never change a byte: both lookups give
 // the same bytes.
 template <class Arch, class Fma>
 SrgbLookup time_srgb_lookups() {
@@ -194,7 +222,9 @@ SrgbLookup time_srgb_lookups() {
       const F frac(srgb_timing_weight);  // read once per pass: no pass can be folded into another
       for (int v = 0; v < kVectors; ++v) {
         const I w0 = I::load_aligned(words + v * L), w1 = I::load_unaligned(words + v * L + 1);
-        mixed = mixed + blend_rgba8<Arch, Fma, true, true, kLookup>(f, w0, w1, frac);
+        mixed = mixed + blend_srgb_channel<0, Arch, Fma, true, kLookup>(f, w0, w1, frac) +
+                blend_srgb_channel<1, Arch, Fma, true, kLookup>(f, w0, w1, frac) +
+                blend_srgb_channel<2, Arch, Fma, true, kLookup>(f, w0, w1, frac);
       }
     }
     alignas(64) std::int32_t lanes[L];

@@ -318,12 +318,11 @@ struct WriteHits {
 
 // The hit loop's source of x and clipped flags: the scratch's (StoredSearch) or `single`'s own
 // (kernels/single_simd.hpp SingleProbe). x(t), then clipped(t); keep(...) before resolve_vector
-// (which reads the scratch); next() after every vector; serves(path): the paths it is built for.
+// (which reads the scratch); next() after every vector.
 template <class Arch>
 struct StoredSearch {
   const float* source_x;
   const float* clipped_flags;
-  static constexpr bool serves(ColorPath) { return true; }
   REPROJECT_ALWAYS_INLINE auto x(int t) const { return Lanes<Arch>::F::load_unaligned(source_x + t); }
   REPROJECT_ALWAYS_INLINE auto clipped(int t) const { return load_flags<Arch>(clipped_flags + t); }
   template <class X, class C> REPROJECT_ALWAYS_INLINE void keep(int, const X&, const C&) const {}  // stored
@@ -385,7 +384,7 @@ void simd_resolve_with(const Frame& f, int y, const RowScratch& scratch, const S
   tally.row_path(static_cast<int>(row.path));
   with_color_path<Arch>(row.path, [&](auto path) {
     constexpr ColorPath kPath = decltype(path)::value;
-    if constexpr (Search::serves(kPath)) resolve_hits_of_path<kPath, Arch, Fma>(row, whole, tally, search);
+    resolve_hits_of_path<kPath, Arch, Fma>(row, whole, tally, search);
   });
   tally.end_row();
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail

@@ -107,6 +107,16 @@ xsimd::batch<std::int32_t, Arch> blend_rgba8_q15(const xsimd::batch<std::int32_t
   return vreinterpretq_s32_u8(vcombine_u8(r0, r1));
 }
 
+// Bytes: |c1 - c0| beyond ((min + 4) >> 3) + 10, the alpha bytes cleared.
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> srgb_far_pairs(const xsimd::batch<std::int32_t, Arch>& c0,
+                                                const xsimd::batch<std::int32_t, Arch>& c1) {
+  const uint8x16_t a = vreinterpretq_u8_s32(c0), b = vreinterpretq_u8_s32(c1);
+  const uint8x16_t limit = vaddq_u8(vshrq_n_u8(vqaddq_u8(vminq_u8(a, b), vdupq_n_u8(4)), 3), vdupq_n_u8(10));
+  const uint8x16_t far = vandq_u8(vcgtq_u8(vabdq_u8(a, b), limit), vreinterpretq_u8_u32(vdupq_n_u32(0x00ffffffu)));
+  return vreinterpretq_s32_u8(far);
+}
+
 // Correctly rounded division: xsimd 8.1's float division on neon64 is a reciprocal estimate
 // refined by two Newton steps (not correctly rounded); vdivq_f32 is IEEE division.
 template <class F>

@@ -120,6 +120,11 @@ xsimd::batch<std::int32_t, Arch> blend_rgba8_q15(const xsimd::batch<std::int32_t
                                                  const xsimd::batch<std::int32_t, Arch>& weight) {
   return X86Set<Arch>::blend_rgba8_q15(c0, c1, weight);
 }
+template <class Arch>
+xsimd::batch<std::int32_t, Arch> srgb_far_pairs(const xsimd::batch<std::int32_t, Arch>& c0,
+                                                const xsimd::batch<std::int32_t, Arch>& c1) {
+  return X86Set<Arch>::srgb_far_pairs(c0, c1);
+}
 
 template <class Arch>
 xsimd::batch<float, Arch> gather(const float* base, const xsimd::batch<std::int32_t, Arch>& index) {

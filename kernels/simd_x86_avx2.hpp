@@ -71,6 +71,14 @@ struct X86Set<xsimd::fma3<xsimd::avx2>> {
     const __m256i r1 = _mm256_add_epi16(a1, _mm256_mulhrs_epi16(d1, _mm256_shuffle_epi8(weight, second)));
     return _mm256_packus_epi16(r0, r1);
   }
+  static I srgb_far_pairs(const I& c0, const I& c1) {  // as SSE4.1's
+    const __m256i low = _mm256_min_epu8(c0, c1), difference = _mm256_sub_epi8(_mm256_max_epu8(c0, c1), low);
+    const __m256i limit = _mm256_add_epi8(
+        _mm256_and_si256(_mm256_srli_epi16(_mm256_adds_epu8(low, _mm256_set1_epi8(4)), 3), _mm256_set1_epi8(0x1f)),
+        _mm256_set1_epi8(10));
+    const __m256i near = _mm256_cmpeq_epi8(_mm256_subs_epu8(difference, limit), _mm256_setzero_si256());
+    return _mm256_andnot_si256(near, _mm256_set1_epi32(0x00ffffff));
+  }
   static void index_for_two_registers(LaneIndex& lanes, const I& index) {
     lanes.index = index;
     lanes.from_high = _mm256_castsi256_ps(_mm256_cmpgt_epi32(index, _mm256_set1_epi32(7)));

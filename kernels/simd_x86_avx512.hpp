@@ -65,6 +65,14 @@ struct X86Set<xsimd::avx512bw> {
     const __m512i r1 = _mm512_add_epi16(a1, _mm512_mulhrs_epi16(d1, _mm512_shuffle_epi8(weight, second)));
     return _mm512_packus_epi16(r0, r1);
   }
+  // As SSE4.1's, the comparison into a mask register that holds only the R, G, B bytes' bits.
+  static I srgb_far_pairs(const I& c0, const I& c1) {
+    const __m512i low = _mm512_min_epu8(c0, c1), difference = _mm512_sub_epi8(_mm512_max_epu8(c0, c1), low);
+    const __m512i limit = _mm512_add_epi8(
+        _mm512_and_si512(_mm512_srli_epi16(_mm512_adds_epu8(low, _mm512_set1_epi8(4)), 3), _mm512_set1_epi8(0x1f)),
+        _mm512_set1_epi8(10));
+    return _mm512_movm_epi8(_mm512_mask_cmpgt_epu8_mask(0x7777777777777777ull, difference, limit));
+  }
   static void index_for_two_registers(LaneIndex& lanes, const I& index) { lanes.index = index; }
   static F permute(const F& v, const LaneIndex& lanes) { return _mm512_permutexvar_ps(lanes.index, v); }
   static F permute_two_registers(const F& low, const F& high, const LaneIndex& lanes) {

@@ -61,6 +61,15 @@ struct X86Set<xsimd::sse4_1> {
     const __m128i r1 = _mm_add_epi16(a1, _mm_mulhrs_epi16(d1, _mm_shuffle_epi8(weight, second)));
     return _mm_packus_epi16(r0, r1);
   }
+  // Bytes: the difference max - min beyond the limit ((min + 4) >> 3) + 10 (a 16-bit shift, its
+  // bits from the next byte masked off), by a saturating subtraction that is zero unless beyond.
+  static I srgb_far_pairs(const I& c0, const I& c1) {
+    const __m128i low = _mm_min_epu8(c0, c1), difference = _mm_sub_epi8(_mm_max_epu8(c0, c1), low);
+    const __m128i limit = _mm_add_epi8(
+        _mm_and_si128(_mm_srli_epi16(_mm_adds_epu8(low, _mm_set1_epi8(4)), 3), _mm_set1_epi8(0x1f)), _mm_set1_epi8(10));
+    const __m128i near = _mm_cmpeq_epi8(_mm_subs_epu8(difference, limit), _mm_setzero_si128());
+    return _mm_andnot_si128(near, _mm_set1_epi32(0x00ffffff));
+  }
   static F shift_in_first(const F& v, __m128 first) {  // bytes 12..15 of `first`'s broadcast, then v's 0..11
     return _mm_castsi128_ps(_mm_alignr_epi8(_mm_castps_si128(v), _mm_castps_si128(_mm_shuffle_ps(first, first, 0)), 12));
   }

@@ -31,10 +31,6 @@ struct SingleProbe {
         key_near(f.key_near),
         target(F(static_cast<float>(f.guard)) + lane_offsets<Arch>()) {}
 
-  // Not rgba8_srgb, whose resolve measured slower with the search inside it (docs/PERFORMANCE.md
-  // "Measured design choices"): simd_single_and_resolve runs the two stages in turn for it.
-  static constexpr bool serves(ColorPath path) { return !is_word_path(path) || path == ColorPath::rgba8; }
-
   REPROJECT_ALWAYS_INLINE F x(int t) {
     surface = F::load_unaligned(probe_row + t);
     return target - surface;
@@ -62,16 +58,10 @@ void simd_single(const Frame& f, RowScratch& scratch) {
 
 // `single`'s search and the resolve as one pass over the row (KernelTable::single_and_resolve):
 // the hit loop computes each vector's x and clipped flags itself (SingleProbe); the scalar search
-// gives the tail's. The same bits as simd_single then simd_resolve, which a colour path that
-// SingleProbe does not serve takes instead.
+// gives the tail's. The same bits as simd_single then simd_resolve.
 template <class Arch, class Fma, class Tally = NoFetchTally>
 void simd_single_and_resolve(const Frame& f, int y, RowScratch& scratch) {
   constexpr int L = Lanes<Arch>::size;
-  if (!SingleProbe<Arch>::serves(color_path_of<Arch>(f))) {
-    simd_single<Arch, Fma>(f, scratch);
-    simd_resolve<Arch, Fma, Tally>(f, y, scratch);
-    return;
-  }
   search_row_single<Fma>(f, scratch, f.target_width / L * L, f.target_width);
   simd_resolve_with<Arch, Fma, Tally>(f, y, scratch, SingleProbe<Arch>(f, scratch));
 }

@@ -594,7 +594,7 @@ TEST(CliScene, WritesEveryView) {
 //
 // Measured (8-bit PNG colour in and out blended as stored, float depth, every instruction set):
 // scanline, secant, exact 34.85 dB; march16 34.48 dB; single 27.50 dB. Blended in linear light
-// (--color-space srgb, rgba8_srgb) exact scores 34.39 dB: the scene's textures are smooth in the encoded
+// (--color-space srgb, rgba8_srgb) exact scores 34.38 dB: the scene's textures are smooth in the encoded
 // values, so interpolating those is nearer the ray-cast eye; its floor is 33.9 dB (--color-space srgb). Not reprojecting at all (the centre view
 // against the right eye) scores 16.6 dB. The floors sit about 0.5 dB below the measurements:
 // far more than rounding can move them (the unfused SSE kernels differ in the last bits only),

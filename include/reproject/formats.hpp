@@ -13,7 +13,7 @@ namespace reproject {
 enum class ColorFormat : std::uint8_t {
   float32,     // floats: 1..4 planes or interleaved RGBA (ColorLayout)
   rgba8,       // one UNORM byte per channel; blended as the byte values, rounded to nearest even
-  rgba8_srgb,  // the same bytes, R, G, B sRGB-encoded (alpha linear): blended in linear light
+  rgba8_srgb,  // the same bytes, R, G, B sRGB-encoded (alpha linear): blended in linear light, within one code
   rgba16f,     // one IEEE 754 half per channel (8 bytes per pixel, the machine's byte order)
 };
 constexpr int kColorFormatCount = 4;

@@ -86,7 +86,7 @@ def warp(color, depth, *, color_space="linear", depth_format=None, linear_range=
       such layout. Anything else (e.g. a[:, ::2]) raises ValueError.
       Engine colour, (H, W, 4) RGBA read in place (each pixel's 4 channels consecutive): uint8 is
       rgba8, blended as the byte values (color_space='linear', the default), or rgba8_srgb with
-      color_space='srgb' (R, G, B decoded from sRGB, blended in linear light, encoded back);
+      color_space='srgb' (R, G, B decoded from sRGB, blended in linear light, encoded back, within one code);
       float16 is rgba16f.
     depth: float32 (H, W), the stored depth value, read in place under the same rule. Engine
       depth buffers, read in place with any row stride: uint16 (H, W) is D16 (unorm16); uint32

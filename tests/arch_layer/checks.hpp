@@ -38,6 +38,7 @@ ArchLayerChecks make_arch_layer_checks() {
   c.pixel4 = check_pixel4<Arch>;
   c.lerp4 = check_lerp4<Arch, Fma>;
   c.blend_rgba8_q15 = check_blend_rgba8_q15<Arch>;
+  c.srgb_far_pairs = check_srgb_far_pairs<Arch>;
   c.srgb_decode = check_srgb_decode<Arch>;
   c.srgb_encode = check_srgb_encode<Arch, Fma>;
   c.srgb_blend = check_srgb_blend<Arch, Fma>;

@@ -99,6 +99,20 @@ Outcome check_lerp4() {
   return out;
 }
 
+// Lane i's two RGBA8 words when every pair of bytes (c0, c1) goes through every channel of every
+// lane: in pass `shift` (0..3), of the vector whose first pair is `first` (a multiple of 4 L),
+// channel c holds pair first + 4 i + (c + shift) % 4 (c0 its low byte, c1 its high one).
+inline void pair_words(int shift, std::uint32_t first, int i, std::int32_t& word0, std::int32_t& word1) {
+  std::uint32_t a = 0, b = 0;
+  for (int c = 0; c < 4; ++c) {
+    const std::uint32_t pair = (first + static_cast<std::uint32_t>(4 * i + (c + shift) % 4)) % 65536;
+    a |= (pair & 0xffu) << (8 * c);
+    b |= (pair >> 8) << (8 * c);
+  }
+  std::memcpy(&word0, &a, 4);
+  std::memcpy(&word1, &b, 4);
+}
+
 // Every pair of bytes (c0, c1) in every channel of every lane, at weights from a dense sweep of
 // blend fractions (their weight_q15), each lane with its own: bit for bit the scalar rule
 // (kernels/codes.hpp blend_u8_q15), and within one code of the exact blend c0 + frac (c1 - c0).
@@ -117,14 +131,7 @@ Outcome check_blend_rgba8_q15() {
     for (std::uint32_t first = 0; first < 65536; first += 4 * L) {
       for (std::size_t f = 0; f < fractions.size(); ++f) {
         for (int i = 0; i < L; ++i) {
-          std::uint32_t a = 0, b = 0;
-          for (int c = 0; c < 4; ++c) {
-            const std::uint32_t pair = (first + static_cast<std::uint32_t>(4 * i + (c + shift) % 4)) % 65536;
-            a |= (pair & 0xffu) << (8 * c);
-            b |= (pair >> 8) << (8 * c);
-          }
-          std::memcpy(&words0[i], &a, 4);
-          std::memcpy(&words1[i], &b, 4);
+          pair_words(shift, first, i, words0[i], words1[i]);
           frac[i] = fractions[(f + static_cast<std::size_t>(i)) % fractions.size()];
           weights[i] = detail::weight_q15(frac[i]);
         }
@@ -150,6 +157,41 @@ Outcome check_blend_rgba8_q15() {
     }
   }
   if (!(worst < 1.0)) out.fail("the largest distance from the exact blend is " + std::to_string(worst) + " codes");
+  return out;
+}
+
+// Every pair of bytes (c0, c1) in every channel of every lane: bit for bit the scalar rule
+// (kernels/codes.hpp srgb_pair_near; 0xff in a far R, G or B byte, 0 elsewhere).
+template <class Arch>
+Outcome check_srgb_far_pairs() {
+  Outcome out;
+  using V = Vec<Arch>;
+  constexpr int L = V::L;
+  std::int32_t words0[L], words1[L], got[L];
+  int far_pairs = 0;
+  for (int shift = 0; shift < 4; ++shift) {  // each pair through every channel
+    for (std::uint32_t first = 0; first < 65536; first += 4 * L) {
+      for (int i = 0; i < L; ++i) pair_words(shift, first, i, words0[i], words1[i]);
+      V::ints_out(detail::srgb_far_pairs<Arch>(V::ints(words0), V::ints(words1)), got);
+      for (int i = 0; i < L; ++i) {
+        for (int c = 0; c < 4; ++c) {
+          const auto c0 = static_cast<std::uint8_t>(static_cast<std::uint32_t>(words0[i]) >> (8 * c));
+          const auto c1 = static_cast<std::uint8_t>(static_cast<std::uint32_t>(words1[i]) >> (8 * c));
+          const auto value = static_cast<std::uint8_t>(static_cast<std::uint32_t>(got[i]) >> (8 * c));
+          const std::uint8_t want = c < 3 && !detail::srgb_pair_near(c0, c1) ? 0xff : 0;
+          far_pairs += want != 0;
+          ++out.lanes;
+          if (value != want) {
+            out.fail(lane_text(i) + "srgb_far_pairs channel " + std::to_string(c) + " of " + std::to_string(c0) + " and " +
+                     std::to_string(c1) + " = " + std::to_string(value) + ", scalar " + std::to_string(want));
+          }
+        }
+      }
+    }
+  }
+  // Each pair once in each channel: R, G and B far for all but the 11,962 near pairs (the count
+  // of tests/test_pixel_formats.cpp), so the rule is not vacuous either way.
+  if (far_pairs != 3 * (65536 - 11962)) out.fail(std::to_string(far_pairs) + " far channel pairs, not 3 x 53,574");
   return out;
 }
 
@@ -262,12 +304,18 @@ Outcome check_srgb_encode() {
 // The colour twins' rgba8_srgb blend (kernels/color_formats_simd.hpp blend_rgba8; not an arch
 // layer primitive, but per set like one), with each lookup the set has, in each column-fetch mode
 // the set has (any two pixels; consecutive ones where it permutes): every byte the scalar
-// reference's (ColorRow::write). For each code k and channel, blends aimed at the rounding
-// boundary between k and k + 1 (lanes that blend k and k + 1 at a weight within a few float steps
-// of where the blend crosses it; the other channels random bytes, so rarely near one), then the
-// same pixels at weights spread over [0, 1]. With permutes, both outcomes of the three channels'
-// one test must occur (counted below): vectors whose estimates are wrong in some lane, which
-// must take the table, and vectors with no lane near a boundary, which keep the estimates.
+// reference's. Each channel's blend in linear light (blend_srgb_channel) against the exact
+// encoding of the scalar blend, and the whole blend (blend_rgba8) against ColorRow::write's
+// (blend_srgb_byte: a near pair's bytes blended as rgba8's, a pair within srgb_pair_second_order
+// by srgb_second_order_blend, any other in linear light). For each code k and channel, blends
+// aimed at the rounding boundary between k and k + 1 (lanes that blend k and k + 1 at a weight
+// within a few float steps of where the blend crosses it), then the same pixels at weights spread
+// over [0, 1]; the other channels random bytes (nearly always far pairs), then near ones (every
+// pair near: the vector never leaves the bytes' blend), then pairs for the second-order blend.
+// All must occur (counted below): vectors with far and near pairs, vectors of near pairs only,
+// vectors whose far pairs the second-order blend takes all, and pairs that take each blend. With permutes, both outcomes of the
+// estimate's test too: vectors whose estimates are wrong in some lane, which must take the table,
+// and vectors with no lane near a boundary, which keep the estimates.
 template <class Arch, class Fma>
 Outcome check_srgb_blend() {
   Outcome out;
@@ -286,7 +334,8 @@ Outcome check_srgb_blend() {
     }
     boundary[static_cast<std::size_t>(k)] = value_of_bits(low);
   }
-  long wrong_estimates = 0, kept_estimates = 0;
+  long wrong_estimates = 0, kept_estimates = 0, mixed_vectors = 0, near_vectors = 0, second_order_vectors = 0,
+       second_order_pairs = 0, linear_pairs = 0;
   std::uint32_t pixels[L + 1];
   float frac[L];
   std::int32_t w0[L], w1[L], got[L];
@@ -301,65 +350,104 @@ Outcome check_srgb_blend() {
       for (int k = 0; k < 255; ++k) {
         constexpr int kSpread = 100;  // not a nudge: the weights spread over [0, 1], not aimed
         for (const int nudge : {-6, -3, 0, 3, 6, kSpread}) {
-          // Lane i blends pixels i and i + 1: in `channel`, k and k + 1 alternately.
-          for (int i = 0; i <= L; ++i) {
-            std::uint32_t p = 0;
-            for (int c = 0; c < 4; ++c) {
-              const std::uint32_t byte = c == channel ? static_cast<std::uint32_t>(k + (i % 2)) : next_byte();
-              p |= byte << (8 * c);
-            }
-            pixels[i] = p;
-          }
-          for (int i = 0; i < L; ++i) {
-            const float from = tables.to_linear[k + (i % 2)], to = tables.to_linear[k + 1 - (i % 2)];
-            float f = static_cast<float>((static_cast<double>(boundary[static_cast<std::size_t>(k)]) - from) /
-                                         (static_cast<double>(to) - from));
-            for (int step = 0; nudge != kSpread && step < std::abs(nudge + i % 5); ++step) {
-              f = std::nextafter(f, nudge + i % 5 > 0 ? 2.0f : -1.0f);
-            }
-            if (nudge == kSpread) f = (static_cast<float>(i) + 0.5f + 0.0625f * static_cast<float>(k % 16)) / static_cast<float>(L + 1);
-            frac[i] = std::min(1.0f, std::max(0.0f, f));
-            std::memcpy(&w0[i], &pixels[i], 4);
-            std::memcpy(&w1[i], &pixels[i + 1], 4);
-          }
-          if constexpr (kLookup == detail::SrgbLookup::permutes) {
-            bool any_near = false;
-            for (int c = 0; c < 3; ++c) {
-              alignas(64) float linear[L];
-              for (int i = 0; i < L; ++i) {
-                const std::uint32_t c0 = pixels[i] >> (8 * c) & 0xffu, c1 = pixels[i + 1] >> (8 * c) & 0xffu;
-                linear[i] = detail::ColorRow<Fma>::blend(frac[i], tables.to_linear[c0], tables.to_linear[c1]);
-              }
-              std::int32_t estimate[L];
-              detail::IntLanes<Arch> code;
-              any_near |= xsimd::any(
-                  detail::srgb_estimate_lanes<Arch, Fma>(tables, detail::srgb_clamp_lanes<Arch>(V::F::load_unaligned(linear)), code));
-              V::ints_out(code, estimate);
-              for (int i = 0; i < L; ++i) wrong_estimates += estimate[i] != detail::srgb_encode(tables, linear[i]);
-            }
-            kept_estimates += !any_near;
-          }
-          // Consecutive mode exists where the column fetch has it (sets with a permute).
-          for (int consecutive = 0; consecutive < (detail::has_permute<Arch>() ? 2 : 1); ++consecutive) {
-            const auto frac_lanes = V::F::load_unaligned(frac);
-            if constexpr (detail::has_permute<Arch>()) {
-              if (consecutive) {
-                V::ints_out(detail::blend_rgba8<Arch, Fma, true, true, kLookup>(frame, V::ints(w0), V::ints(w1), frac_lanes), got);
-              }
-            }
-            if (!consecutive) V::ints_out(detail::blend_rgba8<Arch, Fma, true, false, kLookup>(frame, V::ints(w0), V::ints(w1), frac_lanes), got);
-            for (int i = 0; i < L; ++i) {
+          for (const int others : {0, 1, 2}) {  // random bytes, near pairs, second-order pairs
+            // Lane i blends pixels i and i + 1: in `channel`, k and k + 1 alternately.
+            for (int i = 0; i <= L; ++i) {
+              std::uint32_t p = 0;
               for (int c = 0; c < 4; ++c) {
+                const std::uint32_t other = others == 0   ? next_byte()
+                                            : others == 1 ? static_cast<std::uint32_t>(40 * c + 3 * (i % 3) + k % 7)
+                                                          : static_cast<std::uint32_t>((i % 2 ? 100 : 150) + c + k % 5);
+                const std::uint32_t byte = c == channel ? static_cast<std::uint32_t>(k + (i % 2)) : other;
+                p |= byte << (8 * c);
+              }
+              pixels[i] = p;
+            }
+            for (int i = 0; i < L; ++i) {
+              const float from = tables.to_linear[k + (i % 2)], to = tables.to_linear[k + 1 - (i % 2)];
+              float f = static_cast<float>((static_cast<double>(boundary[static_cast<std::size_t>(k)]) - from) /
+                                           (static_cast<double>(to) - from));
+              for (int step = 0; nudge != kSpread && step < std::abs(nudge + i % 5); ++step) {
+                f = std::nextafter(f, nudge + i % 5 > 0 ? 2.0f : -1.0f);
+              }
+              if (nudge == kSpread) f = (static_cast<float>(i) + 0.5f + 0.0625f * static_cast<float>(k % 16)) / static_cast<float>(L + 1);
+              frac[i] = std::min(1.0f, std::max(0.0f, f));
+              std::memcpy(&w0[i], &pixels[i], 4);
+              std::memcpy(&w1[i], &pixels[i + 1], 4);
+            }
+            if constexpr (kLookup == detail::SrgbLookup::permutes) {
+              bool any_near = false;
+              for (int c = 0; c < 3; ++c) {
+                alignas(64) float linear[L];
+                for (int i = 0; i < L; ++i) {
+                  const std::uint32_t c0 = pixels[i] >> (8 * c) & 0xffu, c1 = pixels[i + 1] >> (8 * c) & 0xffu;
+                  linear[i] = detail::ColorRow<Fma>::blend(frac[i], tables.to_linear[c0], tables.to_linear[c1]);
+                }
+                std::int32_t estimate[L];
+                detail::IntLanes<Arch> code;
+                any_near |= xsimd::any(
+                    detail::srgb_estimate_lanes<Arch, Fma>(tables, detail::srgb_clamp_lanes<Arch>(V::F::load_unaligned(linear)), code));
+                V::ints_out(code, estimate);
+                for (int i = 0; i < L; ++i) wrong_estimates += estimate[i] != detail::srgb_encode(tables, linear[i]);
+              }
+              kept_estimates += !any_near;
+            }
+            int far_lanes = 0, linear_lanes = 0;
+            for (int i = 0; i < L; ++i) {
+              bool far = false;
+              for (int c = 0; c < 3; ++c) {
                 const std::uint8_t c0 = pixels[i] >> (8 * c) & 0xffu, c1 = pixels[i + 1] >> (8 * c) & 0xffu;
-                const std::uint8_t want =
-                    c < 3 ? detail::srgb_encode(tables, detail::ColorRow<Fma>::blend(frac[i], tables.to_linear[c0], tables.to_linear[c1]))
-                          : detail::blend_u8_q15(c0, c1, detail::weight_q15(frac[i]));
-                const auto value = static_cast<std::uint8_t>(static_cast<std::uint32_t>(got[i]) >> (8 * c));
-                ++out.lanes;
-                if (value != want) {
-                  out.fail(lane_text(i) + how + (consecutive ? "consecutive" : "any two") + " blend channel " +
-                           std::to_string(c) + " of " + std::to_string(c0) + " and " + std::to_string(c1) + " at " +
-                           show(bits_of_value(frac[i])) + " = " + std::to_string(value) + ", scalar " + std::to_string(want));
+                const bool near = detail::srgb_pair_near(c0, c1), second_order = detail::srgb_pair_second_order(c0, c1);
+                far |= !near;
+                second_order_pairs += !near && second_order;
+                linear_pairs += !near && !second_order;
+                linear_lanes += !near && !second_order;
+              }
+              far_lanes += far;
+            }
+            mixed_vectors += far_lanes > 0 && far_lanes < L;
+            near_vectors += far_lanes == 0;
+            second_order_vectors += far_lanes > 0 && linear_lanes == 0;
+            // Consecutive mode exists where the column fetch has it (sets with a permute).
+            for (int consecutive = 0; consecutive < (detail::has_permute<Arch>() ? 2 : 1); ++consecutive) {
+              const auto frac_lanes = V::F::load_unaligned(frac);
+              const auto a = V::ints(w0), b = V::ints(w1);
+              std::int32_t linear[3][L];  // each channel's blend in linear light
+              auto blend_linear = [&](auto c_tag) {
+                constexpr int c = decltype(c_tag)::value;
+                if constexpr (detail::has_permute<Arch>()) {
+                  if (consecutive) V::ints_out(detail::blend_srgb_channel<c, Arch, Fma, true, kLookup>(frame, a, b, frac_lanes), linear[c]);
+                }
+                if (!consecutive) V::ints_out(detail::blend_srgb_channel<c, Arch, Fma, false, kLookup>(frame, a, b, frac_lanes), linear[c]);
+              };
+              blend_linear(std::integral_constant<int, 0>{});
+              blend_linear(std::integral_constant<int, 1>{});
+              blend_linear(std::integral_constant<int, 2>{});
+              if constexpr (detail::has_permute<Arch>()) {
+                if (consecutive) V::ints_out(detail::blend_rgba8<Arch, Fma, true, true, kLookup>(frame, a, b, frac_lanes), got);
+              }
+              if (!consecutive) V::ints_out(detail::blend_rgba8<Arch, Fma, true, false, kLookup>(frame, a, b, frac_lanes), got);
+              const std::string mode = std::string(how) + (consecutive ? "consecutive" : "any two");
+              for (int i = 0; i < L; ++i) {
+                for (int c = 0; c < 4; ++c) {
+                  const std::uint8_t c0 = pixels[i] >> (8 * c) & 0xffu, c1 = pixels[i + 1] >> (8 * c) & 0xffu;
+                  const std::string pair = " of " + std::to_string(c0) + " and " + std::to_string(c1) + " at " + show(bits_of_value(frac[i]));
+                  if (c < 3) {
+                    const int exact = detail::srgb_encode(tables, detail::ColorRow<Fma>::blend(frac[i], tables.to_linear[c0], tables.to_linear[c1]));
+                    ++out.lanes;
+                    if (linear[c][i] != exact) {
+                      out.fail(lane_text(i) + mode + " blend_srgb_channel " + std::to_string(c) + pair + " = " +
+                               std::to_string(linear[c][i]) + ", scalar " + std::to_string(exact));
+                    }
+                  }
+                  const std::uint8_t want = c < 3 ? detail::blend_srgb_byte<Fma>(tables, c0, c1, frac[i])
+                                                  : detail::blend_u8_q15(c0, c1, detail::weight_q15(frac[i]));
+                  const auto value = static_cast<std::uint8_t>(static_cast<std::uint32_t>(got[i]) >> (8 * c));
+                  ++out.lanes;
+                  if (value != want) {
+                    out.fail(lane_text(i) + mode + " blend channel " + std::to_string(c) + pair + " = " + std::to_string(value) +
+                             ", scalar " + std::to_string(want));
+                  }
                 }
               }
             }
@@ -372,6 +460,10 @@ Outcome check_srgb_blend() {
     if (wrong_estimates == 0) out.fail("no lane's estimate was wrong: the blends do not reach the table fallback");
     if (kept_estimates == 0) out.fail("every vector had a lane near a rounding boundary: no blend kept its estimates");
   }
+  if (mixed_vectors == 0) out.fail("no vector had both near and far pairs: the merge of the two blends is not reached");
+  if (near_vectors == 0) out.fail("every vector had a far pair: the bytes' blend alone is not reached");
+  if (second_order_pairs == 0 || linear_pairs == 0) out.fail("the second-order blend or the blend in linear light is not reached");
+  if (second_order_vectors == 0) out.fail("no vector had far pairs all within the second-order blend's reach");
   return out;
 }
 

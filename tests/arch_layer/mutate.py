@@ -18,6 +18,7 @@ for both families is quoted in docs/ARCHITECTURE.md, "The arch layer".
 import argparse
 import pathlib
 import re
+import signal
 import subprocess
 import sys
 
@@ -42,18 +43,29 @@ X86 = [
     ("gather", "simd_x86_avx2.hpp", "_mm256_i32gather_ps(base, index, 4)", "_mm256_i32gather_ps(base + 1, index, 4)"),
     # The sRGB decoder (AVX-512): two parts swapped; an index of four bits. Its encoder's estimate:
     # no margin round a rounding boundary; a coefficient 4e-6 off (1e-3 codes at the top). The
-    # rgba8_srgb blend (permutes): its one test of the three channels skipped, or blind to one; the
-    # kept estimates' channels swapped.
+    # rgba8_srgb blend: the far pairs never blended otherwise, or one channel's never merged, or
+    # merged into the wrong channel; the second-order rule one code looser, its offset rounded;
+    # with permutes, the estimate's test skipped. Its rule for a
+    # near pair: one code looser in the scalar rule (which the SIMD twins are held to), the + 4's
+    # mask letting in the next byte's bit, the alpha flagged, a difference at the limit taken as far.
     ("srgb_decode", "color_formats_simd.hpp", "xsimd::select(bit5, part[7], part[6])", "xsimd::select(bit5, part[6], part[7])"),
     ("srgb_decode", "color_formats_simd.hpp", "index_for_two_registers<Arch>(lanes, bytes & I(31));",
      "index_for_two_registers<Arch>(lanes, bytes & I(15));"),
     ("srgb_encode", "color_formats.hpp", "kSrgbEstimateMargin = 0x1p-13f;", "kSrgbEstimateMargin = 0x1p-24f;"),
     ("srgb_encode", "color_formats.hpp", "0x1.aaa4e4p-2f, 0x1.000004p+0f}", "0x1.aaa4e4p-2f, 0x1.000040p+0f}"),
-    ("srgb_blend", "color_formats_simd.hpp", "if (!xsimd::any(near)) return out", "if (true) return out"),
-    ("srgb_blend", "color_formats_simd.hpp", "return out | code[0] | (code[1] << 8) | (code[2] << 16);",
-     "return out | code[0] | (code[2] << 8) | (code[1] << 16);"),
-    ("srgb_blend", "color_formats_simd.hpp", "srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[1], code[1]) |",
-     "srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear[1], code[1]) & xsimd::batch_bool<float, Arch>(false) |"),
+    ("srgb_blend", "color_formats_simd.hpp", "if (!xsimd::any(far != I(0))) return fixed;", "if (true) return fixed;"),
+    ("srgb_blend", "color_formats_simd.hpp", "const I far_c = far & I(0xff << (8 * c));", "const I far_c = far & I(0xff << (8 * c)) & I(0xffff);"),
+    ("srgb_blend", "color_formats_simd.hpp", "out = (out & ~far_c) | ((code << (8 * c)) & far_c);",
+     "out = (out & ~far_c) | ((code << (8 * (2 - c))) & far_c);"),
+    ("srgb_blend", "color_formats_simd.hpp", "const F limit = vmin(a, b) + F(9.0f);", "const F limit = vmin(a, b) + F(10.0f);"),
+    ("srgb_blend", "color_formats_simd.hpp", "x + F(14.025f));", "x + F(14.0f));"),
+    ("srgb_blend", "color_formats_simd.hpp", "if (!xsimd::any(srgb_estimate_lanes<Arch, Fma>(*f.srgb, linear, code))) return code;",
+     "if (true) return code;"),
+    ("srgb_far_pairs", "codes.hpp", "return high - low <= 10 + ((low + 4) >> 3);", "return high - low <= 11 + ((low + 4) >> 3);"),
+    ("srgb_far_pairs", "simd_x86_avx2.hpp", "_mm256_set1_epi8(4)), 3), _mm256_set1_epi8(0x1f)),", "_mm256_set1_epi8(4)), 3), _mm256_set1_epi8(0x3f)),"),
+    ("srgb_far_pairs", "simd_x86_avx512.hpp", "_mm512_mask_cmpgt_epu8_mask(0x7777777777777777ull,", "_mm512_mask_cmpgt_epu8_mask(0xf777777777777777ull,"),
+    ("srgb_far_pairs", "simd_x86_sse.hpp", "_mm_cmpeq_epi8(_mm_subs_epu8(difference, limit), _mm_setzero_si128());",
+     "_mm_cmpeq_epi8(_mm_subs_epu8(difference, _mm_sub_epi8(limit, _mm_set1_epi8(1))), _mm_setzero_si128());"),
     ("lane_extreme", "simd_x86.hpp", "lane_extreme_key<Max>(total_order_key(bits_of<Arch>(v)))",
      "lane_extreme_key<Max>(bits_of<Arch>(v))"),
     ("lane_extreme", "simd_x86_avx512.hpp", "return Max ? _mm512_reduce_max_epi32(k) : _mm512_reduce_min_epi32(k);",
@@ -112,6 +124,7 @@ NEON = [
     ("lerp4", "simd_neon.hpp", "return vfmaq_f32(c0, frac, vsubq_f32(c1, c0));", "return vaddq_f32(c0, vmulq_f32(frac, vsubq_f32(c1, c0)));"),
     ("blend_rgba8_q15", "simd_neon.hpp", "const uint8x8_t r1 = vqmovun_s16(vaddq_s16(a1, vqrdmulhq_s16(d1, w1)));",
      "const uint8x8_t r1 = vqmovun_s16(vaddq_s16(a1, vqdmulhq_s16(d1, w1)));"),
+    ("srgb_far_pairs", "simd_neon.hpp", "vcgtq_u8(vabdq_u8(a, b), limit)", "vcgeq_u8(vabdq_u8(a, b), limit)"),
     ("load_half4", "simd_neon.hpp", "return vcvt_f32_f16(vreinterpret_f16_u64(vcreate_u64(halves)));",
      "return vcvt_f32_f16(vreinterpret_f16_u64(vcreate_u64(halves & 0xffffffffffff7fffull)));"),
 ]
@@ -128,6 +141,7 @@ def main():
     parser.add_argument("--runner", default="", help="e.g. qemu-aarch64 for the neon family")
     parser.add_argument("--only", default="", help="regex over the primitive names")
     args = parser.parse_args()
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # a kill still restores the file (finally below)
     mutations = [m for m in (X86 if args.family == "x86" else NEON) if re.search(args.only, m[0])]
     escaped = []
     for primitive, name, text, replacement in mutations:

@@ -30,7 +30,7 @@ using PrimitiveCheck = Outcome (*)();
 struct ArchLayerChecks {
   PrimitiveCheck vmadd, vdiv, vfloor, vmin, vmax, round_to_int, bits_of, float_bits, byte_lanes, gather,
       index_for_gather, lane_extreme, first_lane, shift_in_first, permute, permute_two_registers, store_first_lanes, store_bytes,
-      load_u16, store_u16, pixel4, lerp4, blend_rgba8_q15, srgb_decode, srgb_encode, srgb_blend, load_half4, store_half4, xsimd_select, xsimd_compare, xsimd_masks,
+      load_u16, store_u16, pixel4, lerp4, blend_rgba8_q15, srgb_far_pairs, srgb_decode, srgb_encode, srgb_blend, load_half4, store_half4, xsimd_select, xsimd_compare, xsimd_masks,
       xsimd_convert, xsimd_integer, xsimd_arithmetic;
 };
 
