@@ -89,8 +89,8 @@ std::uint8_t blend_srgb_byte(const SrgbTables& tables, std::uint8_t c0, std::uin
 // A row's colour in its format: writes target pixel t as source columns j0 and j1 blended at
 // `frac` (c0 + frac (c1 - c0) per channel with the table's FMA policy), or as zeros (`black`).
 // Float values are blended as they are; rgba8 as the byte values, rgba8_srgb's R, G, B as their
-// linear values (blend_srgb_byte), rgba16f as the halves' values; then each is stored in the format, rounded to nearest even
-// (docs/BEHAVIOUR.md "Pixel formats").
+// linear values (blend_srgb_byte), rgba16f as the halves' values; then each is stored in the
+// format, rounded to nearest even (docs/BEHAVIOUR.md "Pixel formats").
 template <class Fma>
 struct ColorRow {
   ColorFormat format;

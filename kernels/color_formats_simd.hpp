@@ -111,8 +111,8 @@ REPROJECT_ALWAYS_INLINE inline xsimd::batch<float, Arch> srgb_decode_lanes(const
 }
 
 // rgba8_srgb's channel C (0..2) of L pixels' words blended in linear light through the sRGB
-// tables (scalar twin: ColorRow::write where the pair is not srgb_pair_near): each lane's byte,
-// 0..255. Consecutive: the caller's words are consecutive pixels, w1's lane i being w0's lane
+// tables (scalar twin: blend_srgb_byte's last case, a pair neither near nor second-order): each
+// lane's byte, 0..255. Consecutive: the caller's words are consecutive pixels, w1's lane i being w0's lane
 // i + 1 (the column fetch's consecutive mode), so w0's linear values are w1's moved up one lane
 // with w0's lane 0 looked up alone: one gather saved, the same values. Lookup: how the sRGB tables
 // are read (the same bytes).
@@ -198,10 +198,10 @@ volatile float srgb_timing_weight = 0.375f;
 volatile std::uint32_t srgb_timing_sink = 0;
 
 // Which SrgbLookup is faster on this processor, for a set with both (has_srgb_permutes): the
-// rgba8_srgb blend in linear light of consecutive pixels (what the resolve runs on every vector
-// with a far pair) timed with each in turn, best of five, on 1024 pixels of pseudo-random bytes,
-// the tables in cache as in a frame. About 0.2 ms. Noise can only cost speed, never change a byte: both lookups give
-// the same bytes.
+// rgba8_srgb blend in linear light of consecutive pixels (what the resolve runs on a channel with
+// a pair beyond the second-order blend) timed with each in turn, best of five, on 1024 pixels of
+// pseudo-random bytes, the tables in cache as in a frame. About 0.2 ms. Noise can only cost speed,
+// never change a byte: both lookups give the same bytes.
 template <class Arch, class Fma>
 SrgbLookup time_srgb_lookups() {
   REPROJECT_LANE_TYPES(Arch);

@@ -316,9 +316,11 @@ struct WriteHits {
   }
 };
 
-// The hit loop's source of x and clipped flags: the scratch's (StoredSearch) or `single`'s own
-// (kernels/single_simd.hpp SingleProbe). x(t), then clipped(t); keep(...) before resolve_vector
-// (which reads the scratch); next() after every vector.
+// Where the hit loop takes each vector's x and clipped flags from: the rows the search stage
+// wrote into the scratch (StoredSearch), or, for `single`, computed in the loop (SingleProbe,
+// kernels/single_simd.hpp: no pass of its own, no stores and loads between the stages). A policy
+// gives x(t), then clipped(t); keep(t, x, clipped) before a vector goes to resolve_vector (which
+// reads the scratch); next() after every vector, in order.
 template <class Arch>
 struct StoredSearch {
   const float* source_x;
@@ -383,8 +385,7 @@ void simd_resolve_with(const Frame& f, int y, const RowScratch& scratch, const S
   Tally tally{};
   tally.row_path(static_cast<int>(row.path));
   with_color_path<Arch>(row.path, [&](auto path) {
-    constexpr ColorPath kPath = decltype(path)::value;
-    resolve_hits_of_path<kPath, Arch, Fma>(row, whole, tally, search);
+    resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally, search);
   });
   tally.end_row();
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail

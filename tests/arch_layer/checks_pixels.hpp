@@ -313,9 +313,10 @@ Outcome check_srgb_encode() {
 // over [0, 1]; the other channels random bytes (nearly always far pairs), then near ones (every
 // pair near: the vector never leaves the bytes' blend), then pairs for the second-order blend.
 // All must occur (counted below): vectors with far and near pairs, vectors of near pairs only,
-// vectors whose far pairs the second-order blend takes all, and pairs that take each blend. With permutes, both outcomes of the
-// estimate's test too: vectors whose estimates are wrong in some lane, which must take the table,
-// and vectors with no lane near a boundary, which keep the estimates.
+// vectors whose far pairs the second-order blend takes all, and pairs that take each blend. With
+// permutes, both outcomes of the estimate's test too: vectors whose estimates are wrong in some
+// lane, which must take the table, and vectors with no lane near a boundary, which keep the
+// estimates.
 template <class Arch, class Fma>
 Outcome check_srgb_blend() {
   Outcome out;
@@ -400,7 +401,6 @@ Outcome check_srgb_blend() {
                 const bool near = detail::srgb_pair_near(c0, c1), second_order = detail::srgb_pair_second_order(c0, c1);
                 far |= !near;
                 second_order_pairs += !near && second_order;
-                linear_pairs += !near && !second_order;
                 linear_lanes += !near && !second_order;
               }
               far_lanes += far;
@@ -408,6 +408,7 @@ Outcome check_srgb_blend() {
             mixed_vectors += far_lanes > 0 && far_lanes < L;
             near_vectors += far_lanes == 0;
             second_order_vectors += far_lanes > 0 && linear_lanes == 0;
+            linear_pairs += linear_lanes;
             // Consecutive mode exists where the column fetch has it (sets with a permute).
             for (int consecutive = 0; consecutive < (detail::has_permute<Arch>() ? 2 : 1); ++consecutive) {
               const auto frac_lanes = V::F::load_unaligned(frac);
