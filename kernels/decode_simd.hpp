@@ -2,6 +2,9 @@
 // pass over the depth.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <type_traits>
 
 #include "kernels/depth_formats_simd.hpp"
@@ -43,28 +46,79 @@ void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, flo
   decode_parallax_columns<Fma>(f, depth, parallax, stored, i, width);
 }
 
+// The UNORM codes of columns [i, i + L) of a depth row in Format.
+template <class Arch, DepthFormat Format>
+REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> load_depth_codes(const std::uint8_t* row, int i) {
+  using I = IntLanes<Arch>;
+  if constexpr (Format == DepthFormat::unorm16) {
+    return load_u16<Arch>(row + 2 * static_cast<std::ptrdiff_t>(i));
+  } else {
+    const I word = I::load_unaligned(reinterpret_cast<const std::int32_t*>(row + 4 * static_cast<std::ptrdiff_t>(i)));
+    if constexpr (Format == DepthFormat::unorm24_s8) return word & I(0xffffff);
+    else return (word >> 8) & I(0xffffff);
+  }
+}
+
+// The key of a column holding `code` in the frame's UNORM format, from the scalar reference
+// itself (nearest_key_in_columns on that one column), at least `nearest`.
+template <class Fma>
+float nearest_key_of_code(const Frame& f, std::uint32_t code, float nearest) {
+  alignas(4) std::uint8_t column[4] = {};
+  const std::uint32_t word = f.depth.format == DepthFormat::s8_unorm24 ? code << 8 : code;
+  if (f.depth.format == DepthFormat::unorm16) {
+    const std::uint16_t half = static_cast<std::uint16_t>(word);
+    std::memcpy(column, &half, sizeof half);
+  } else {
+    std::memcpy(column, &word, sizeof word);
+  }
+  return nearest_key_in_columns<Fma>(f, column, 0, 1, nearest);
+}
+
 // The default near end's pass (scalar twin: nearest_key_in_columns): the same decode, reduced
 // with max (order-independent, and no NaN survives the decode, so any order gives the same bits).
+// A UNORM row (near_pass_by_codes) reduces its codes instead, with integer min and max, and only
+// its lowest and highest codes are decoded: the same key.
 template <class Arch, class Fma>
 float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
   REPROJECT_LANE_TYPES(Arch);
   const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
   const F key_far(f.key_far), limit(f.limit), one(1.0f);
   const int width = f.source_width;
-  F nearest = key_far;
+  float nearest = f.key_far;
   int i = 0;
-  with_depth_format(f.depth.format, [&](auto format) {
+  with_depth_format(f.depth.format, [&](auto format_tag) {
+    constexpr DepthFormat kFormat = decltype(format_tag)::value;
+    if constexpr (kFormat == DepthFormat::unorm16 || kFormat == DepthFormat::unorm24_s8 ||
+                  kFormat == DepthFormat::s8_unorm24) {
+      if (width >= L && near_pass_by_codes(f)) {
+        I lowest = load_depth_codes<Arch, kFormat>(depth, 0), highest = lowest;
+        for (i = L; i + L <= width; i += L) {
+          const I code = load_depth_codes<Arch, kFormat>(depth, i);
+          lowest = xsimd::min(lowest, code);
+          highest = xsimd::max(highest, code);
+        }
+        alignas(64) std::int32_t low[L], high[L];
+        lowest.store_aligned(low);
+        highest.store_aligned(high);
+        const std::int32_t low_code = *std::min_element(low, low + L), high_code = *std::max_element(high, high + L);
+        nearest = nearest_key_of_code<Fma>(f, static_cast<std::uint32_t>(low_code), nearest);
+        nearest = nearest_key_of_code<Fma>(f, static_cast<std::uint32_t>(high_code), nearest);
+        return;
+      }
+    }
+    F keys = key_far;
     with_decode_shape(f, [&](auto affine) {
       for (; i + L <= width; i += L) {
-        const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
+        const F d = load_depth_values<Arch, Fma, kFormat>(f, depth, i);
         const F p = decltype(affine)::value ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
         const F key = s * p;
         // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
-        nearest = vmax(nearest, xsimd::select(key >= key_far, vmin(key, limit), key_far));
+        keys = vmax(keys, xsimd::select(key >= key_far, vmin(key, limit), key_far));
       }
     });
+    nearest = lane_max<Arch>(keys);
   });
-  return nearest_key_in_columns<Fma>(f, depth, i, width, lane_max<Arch>(nearest));
+  return nearest_key_in_columns<Fma>(f, depth, i, width, nearest);
 }
 
 }  // namespace

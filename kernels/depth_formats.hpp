@@ -4,6 +4,7 @@
 // these only; their SIMD twins are in kernels/depth_formats_simd.hpp.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -54,6 +55,21 @@ inline float depth_value(const Frame& f, const std::uint8_t* row, int i) noexcep
 // D16: the decode keeps the row's stored values in RowScratch::stored_depth for the SIMD resolve
 // (16-bit columns do not fit its column plan); the 32-bit formats' words are read there directly.
 inline bool depth_row_kept(const Frame& f) noexcept { return f.depth.format == DepthFormat::unorm16; }
+
+// Whether the near pass may reduce a row's UNORM codes instead of its keys (kernels/
+// decode_simd.hpp, simd_nearest_key): a column's key is then a monotone function of its code.
+// Each step of the decode is monotone in d = code / max (kernels/decode.cpp decode_parallax: an
+// affine map, or a reciprocal and an affine map, each correctly rounded, then s * p, exact, and
+// clean_parallax's clamps), in one direction for every code when the frame's constants are
+// finite. The one NaN, a reciprocal's 0 * inf at code 0 with b = +-0, becomes key_far beside one
+// key for every other code: the larger of the two ends is still the row's nearest key.
+inline bool near_pass_by_codes(const Frame& f) noexcept {
+  const bool unorm = f.depth.format == DepthFormat::unorm16 || f.depth.format == DepthFormat::unorm24_s8 ||
+                     f.depth.format == DepthFormat::s8_unorm24;
+  const bool finite = f.affine ? std::isfinite(f.decode_scale) && std::isfinite(f.decode_offset)
+                               : std::isfinite(f.a) && std::isfinite(f.b);
+  return unorm && finite;
+}
 
 // The word (or code) that stores depth d in the frame's format; `kept` is the source word whose
 // other bits (D24S8's stencil, the packed format's A byte) go with it.

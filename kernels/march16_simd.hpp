@@ -1,6 +1,7 @@
 // SIMD twin of kernels/march16.cpp (`march16`).
 #pragma once
 
+#include <algorithm>
 #include <limits>
 #include <type_traits>
 
@@ -11,10 +12,60 @@ namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: search_row_march16.
 // The samples' offsets and parallaxes are the same for every pixel, so they are tabled once per
-// row. Samples run in chunks: inside a chunk, backwards and branch-free (the last select is the
-// first hit, as in the scalar early exit); between chunks, an early exit once every lane has hit.
+// row. Only the row's deciding samples run (MarchRange). They run in chunks: inside a chunk,
+// backwards and branch-free (the last select is the first hit, as in the scalar early exit);
+// between chunks, an early exit once every lane has hit.
 
 constexpr int kMarchChunk = 16;
+constexpr int kMarchGroup = 4;  // a chunk runs a whole number of groups of samples: unrolled
+constexpr int kMaxMarchSamples = 1025;  // Options::march_steps <= 1024
+
+// The samples [first, end) that decide the row's lanes; the others leave every lane as it is
+// (DESIGN §6's march16 unchanged, only fewer reads). No surface of the row is on or behind a
+// sample nearer than all of them, so none can be a lane's first hit; and every surface is on or
+// behind a sample at or beyond the row's farthest one, so no lane looks past the first such
+// sample. The row's surfaces are bounded by its columns [0, source_width): the padding repeats
+// the edge columns. Samples may run past `end` (up to a whole group; beyond the last sample the
+// table repeats it): a sample after one every lane hits changes nothing.
+struct MarchRange {
+  int first;
+  int end;
+};
+
+template <class Arch>
+MarchRange march_range(const Frame& f, const RowScratch& scratch, const float* sample_parallax, int samples) {
+  REPROJECT_LANE_TYPES(Arch);
+  const float* parallax = scratch.parallax;
+  float lowest = parallax[0], highest = parallax[0];  // decoded parallax is never NaN
+  int j = 0;
+  if (f.source_width >= 4 * L) {
+    // Four vectors a step, each with its own bounds: four times shorter chains of min and max.
+    F low[4], high[4];
+    for (int v = 0; v < 4; ++v) low[v] = high[v] = F::load_unaligned(parallax + v * L);
+    for (; j + 4 * L <= f.source_width; j += 4 * L) {
+      for (int v = 0; v < 4; ++v) {
+        const F p = F::load_unaligned(parallax + j + v * L);
+        low[v] = vmin(low[v], p);
+        high[v] = vmax(high[v], p);
+      }
+    }
+    lowest = lane_min<Arch>(vmin(vmin(low[0], low[1]), vmin(low[2], low[3])));
+    highest = lane_max<Arch>(vmax(vmax(high[0], high[1]), vmax(high[2], high[3])));
+  }
+  for (; j < f.source_width; ++j) {
+    lowest = std::min(lowest, parallax[j]);
+    highest = std::max(highest, parallax[j]);
+  }
+  // Keys s * p (s is +-1: exact): a surface is on or behind a sample when its key is at least
+  // the sample's.
+  const float key_nearest = f.s > 0.0f ? highest : -lowest;
+  const float key_farthest = f.s > 0.0f ? lowest : -highest;
+  int first = 0;
+  while (first < samples && !(key_nearest >= f.s * sample_parallax[first])) ++first;
+  int end = first;
+  while (end < samples && !(key_farthest >= f.s * sample_parallax[end])) ++end;
+  return {first, std::min(end + 1, samples)};
+}
 
 template <class Arch, class Fma, bool Positive>
 void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax) {
@@ -22,7 +73,7 @@ void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_off
   // Locals, not f's or scratch's fields: the stores below go through float pointers, which may
   // alias them, so fields would be reloaded after each store.
   const int width = f.target_width;
-  const int samples = f.march_steps + 1;
+  const MarchRange range = march_range<Arch>(f, scratch, sample_parallax, f.march_steps + 1);
   const float* row0 = scratch.parallax + f.guard;  // lane t's samples: row0 + t + sample_offset[k]
   float* source_x = scratch.source_x.data();
   float* clipped = scratch.clipped.data();
@@ -35,7 +86,7 @@ void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_off
   };
   // The parallax of the first of samples [first, first + count) on or behind the surface, NaN if
   // none (decoded parallax is never NaN): backwards and branch-free, so the last select is the
-  // first hit, as in the scalar early exit. A whole chunk has a constant count: unrolled.
+  // first hit, as in the scalar early exit. count is constant: unrolled.
   auto chunk = [&](const float* row, int first, auto count) {
     const int* offset = sample_offset + first;
     const float* ray = sample_parallax + first;
@@ -47,6 +98,18 @@ void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_off
     }
     return hit;
   };
+  // A chunk of `groups` groups (1 to kMarchChunk / kMarchGroup), the same for every vector of
+  // the row but the last chunk's: a well-predicted branch to an unrolled chunk.
+  auto chunk_of_groups = [&](const float* row, int first, int groups) {
+    using std::integral_constant;
+    switch (groups) {
+      case 1: return chunk(row, first, integral_constant<int, kMarchGroup>{});
+      case 2: return chunk(row, first, integral_constant<int, 2 * kMarchGroup>{});
+      case 3: return chunk(row, first, integral_constant<int, 3 * kMarchGroup>{});
+      default: return chunk(row, first, integral_constant<int, kMarchChunk>{});
+    }
+  };
+  static_assert(kMarchChunk == 4 * kMarchGroup, "chunk_of_groups' cases");
   F target = F(static_cast<float>(f.guard)) + lane_offsets<Arch>();  // t + guard: exact small integers
   int t = 0;
   for (; t + L <= width; t += L) {
@@ -55,10 +118,9 @@ void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_off
     // The parallax of the first sample on or behind the surface; no hit: the far end.
     F hit_parallax = p_far;
     B done(false);
-    for (int first = 0; first < samples; first += kMarchChunk) {
-      const F chunk_parallax = first + kMarchChunk <= samples
-                                   ? chunk(row, first, std::integral_constant<int, kMarchChunk>{})
-                                   : chunk(row, first, samples - first);
+    for (int first = range.first; first < range.end; first += kMarchChunk) {
+      const int groups = (std::min(range.end - first, kMarchChunk) + kMarchGroup - 1) / kMarchGroup;
+      const F chunk_parallax = chunk_of_groups(row, first, groups);
       const B chunk_hit = chunk_parallax == chunk_parallax;
       hit_parallax = xsimd::select(chunk_hit & ~done, chunk_parallax, hit_parallax);
       done = done | chunk_hit;
@@ -72,11 +134,12 @@ void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_off
 
 template <class Arch, class Fma>
 void simd_march16(const Frame& f, RowScratch& scratch) {
-  // At most 1025 samples (Options::march_steps <= 1024).
-  int sample_offset[1025];
-  float sample_parallax[1025];
-  for (int k = 0; k <= f.march_steps; ++k) {
-    sample_parallax[k] = madd<Fma>(static_cast<float>(k), f.march_step, f.p_near);
+  // A whole group past the last sample: the last sample again (march_range).
+  int sample_offset[kMaxMarchSamples + kMarchGroup];
+  float sample_parallax[kMaxMarchSamples + kMarchGroup];
+  const int samples = f.march_steps + 1;
+  for (int k = 0; k < samples + kMarchGroup; ++k) {
+    sample_parallax[k] = madd<Fma>(static_cast<float>(std::min(k, samples - 1)), f.march_step, f.p_near);
     sample_offset[k] = point_offset(sample_parallax[k]);
   }
   if (f.s > 0.0f) simd_march16_row<Arch, Fma, true>(f, scratch, sample_offset, sample_parallax);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "kernels/codes.hpp"
+#include "kernels/depth_formats.hpp"
 #include "kernels/dispatch.hpp"
 #include "kernels/frame.hpp"
 #include "src/reproject_internal.hpp"
@@ -359,6 +360,90 @@ TEST(PairDecode, LeftEyeIsTheNegatedRightEyeBitForBit) {
     }
   }
   std::printf("pair decode: %ld columns compared, left == 0 - right everywhere\n", compared);
+}
+
+// The near pass over a UNORM depth row reduces codes and decodes only the lowest and the highest
+// (kernels/decode_simd.hpp, near_pass_by_codes): it must give the key of the full decode, bit for
+// bit (up to the sign of a zero, which set_near_key makes +0), on every arch, for every encoding
+// (both directions of the key in the code), both decode shapes, awkward models (b = +-0, huge b,
+// both signs of s), codes 0 and max, and rows whose nearest key is at either end.
+TEST(NearPass, UnormCodesGiveTheKeyOfTheFullDecode) {
+  std::mt19937 rng(11);
+  std::vector<DepthDecoder> decoders = {DepthDecoder::linear(), DepthDecoder::disparity()};
+  for (int e = 0; e < kDepthEncodingCount; ++e) {
+    const auto encoding = static_cast<DepthEncoding>(e);
+    if (encoding != DepthEncoding::linear && encoding != DepthEncoding::disparity) {
+      decoders.push_back(DepthDecoder::from_near_far(encoding, 0.5, 40.0));
+    }
+  }
+  const ParallaxModel models[] = {{28.8f, -100.8f}, {-12.0f, 40.0f}, {0.0f, -0.0f}, {3.0f, 0.0f}, {5.0f, -1e30f}, {-0.0f, 1e-3f}};
+  long rows = 0, low_end = 0, high_end = 0, by_codes = 0;
+  for (DepthFormat format : {DepthFormat::unorm16, DepthFormat::unorm24_s8, DepthFormat::s8_unorm24}) {
+    const bool u16 = format == DepthFormat::unorm16;
+    const std::uint32_t max_code = u16 ? 0xffffu : 0xffffffu;
+    for (const DepthDecoder& decoder : decoders) {
+      for (const ParallaxModel& model : models) {
+        for (int trial = 0; trial < 6; ++trial) {
+          const int width = 1 + static_cast<int>(rng() % 80);
+          // Codes over the whole range, or bunched (a narrow band, where neighbouring codes can
+          // round to one key), with the ends 0 and max sometimes in; random stencil bits.
+          const std::uint32_t centre = rng() % (max_code + 1), spread = trial % 2 ? 40u : max_code;
+          std::vector<std::uint32_t> codes(static_cast<std::size_t>(width));
+          for (auto& code : codes) {
+            const std::uint32_t r = rng() % 16;
+            code = r == 0 ? 0u : r == 1 ? max_code : std::min<std::uint32_t>(max_code, centre + rng() % (spread + 1));
+          }
+          std::vector<std::uint8_t> row(static_cast<std::size_t>(width) * 4);
+          for (int i = 0; i < width; ++i) {
+            const std::uint32_t stencil = rng() & 0xffu, code = codes[static_cast<std::size_t>(i)];
+            if (u16) {
+              const std::uint16_t half = static_cast<std::uint16_t>(code);
+              std::memcpy(row.data() + 2 * i, &half, 2);
+            } else {
+              const std::uint32_t word = format == DepthFormat::unorm24_s8 ? code | stencil << 24 : code << 8 | stencil;
+              std::memcpy(row.data() + 4 * i, &word, 4);
+            }
+          }
+          std::vector<float> color(static_cast<std::size_t>(width), 0.5f), out(color.size());
+          SourceView source;
+          source.depth_buffer = DepthBuffer::of(format, row.data(), width, 1, width * (u16 ? 2 : 4));
+          source.color = ColorView::planar({FloatPlane{color.data(), width, 1, width}});
+          TargetView target;
+          target.color = MutableColorView::planar({MutableFloatPlane{out.data(), width, 1, width}});
+          const detail::Frame frame = detail::plan_frame(source, decoder, model, Options(), target);
+          by_codes += detail::near_pass_by_codes(frame);
+          // Where the row's nearest key lies: at its lowest code, its highest, or both.
+          const detail::KernelTable& scalar = detail::reference_kernels(Arch::scalar);
+          const float whole = scalar.nearest_key(frame, row.data()) + 0.0f;
+          // (The key of one column: a row of copies of it, the same frame.)
+          auto key_of_column = [&](std::size_t i) {
+            const std::size_t bytes = u16 ? 2 : 4;
+            std::vector<std::uint8_t> copies(row.size());
+            for (std::size_t j = 0; j < codes.size(); ++j) std::memcpy(copies.data() + j * bytes, row.data() + i * bytes, bytes);
+            return scalar.nearest_key(frame, copies.data()) + 0.0f;
+          };
+          const auto [lo, hi] = std::minmax_element(codes.begin(), codes.end());
+          const bool nearer_than_far = whole > frame.key_far;
+          low_end += nearer_than_far && key_of_column(static_cast<std::size_t>(lo - codes.begin())) == whole;
+          high_end += nearer_than_far && key_of_column(static_cast<std::size_t>(hi - codes.begin())) == whole;
+          ++rows;
+          for (int a = 0; a < kArchCount; ++a) {
+            if (!arch_supported(static_cast<Arch>(a))) continue;
+            const float reference = detail::reference_kernels(static_cast<Arch>(a)).nearest_key(frame, row.data()) + 0.0f;
+            const float got = detail::compiled_kernels(static_cast<Arch>(a))->nearest_key(frame, row.data()) + 0.0f;
+            ASSERT_EQ(std::memcmp(&got, &reference, sizeof got), 0)
+                << to_string(static_cast<Arch>(a)) << " format " << static_cast<int>(format) << " width " << width
+                << ": " << got << " against the reference's " << reference << " (a " << model.a << ", b " << model.b << ")";
+          }
+        }
+      }
+    }
+  }
+  std::printf("near pass: %ld UNORM rows (%ld by codes), nearest key at the lowest code in %ld, at the highest in %ld\n",
+              rows, by_codes, low_end, high_end);
+  EXPECT_GT(low_end, rows / 10);  // both ends decide some rows
+  EXPECT_GT(high_end, rows / 10);
+  EXPECT_GT(by_codes, rows / 2);
 }
 
 // b = +-0 (no stereo) is the one model whose mirror is not mirrored in the plan (both eyes get
