@@ -50,6 +50,7 @@ void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, flo
 template <class Arch, DepthFormat Format>
 REPROJECT_ALWAYS_INLINE inline IntLanes<Arch> load_depth_codes(const std::uint8_t* row, int i) {
   using I = IntLanes<Arch>;
+  static_assert(has_unorm_codes(Format), "UNORM formats only");
   if constexpr (Format == DepthFormat::unorm16) {
     return load_u16<Arch>(row + 2 * static_cast<std::ptrdiff_t>(i));
   } else {
@@ -88,8 +89,7 @@ float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
   int i = 0;
   with_depth_format(f.depth.format, [&](auto format_tag) {
     constexpr DepthFormat kFormat = decltype(format_tag)::value;
-    if constexpr (kFormat == DepthFormat::unorm16 || kFormat == DepthFormat::unorm24_s8 ||
-                  kFormat == DepthFormat::s8_unorm24) {
+    if constexpr (has_unorm_codes(kFormat)) {
       if (width >= L && near_pass_by_codes(f)) {
         I lowest = load_depth_codes<Arch, kFormat>(depth, 0), highest = lowest;
         for (i = L; i + L <= width; i += L) {

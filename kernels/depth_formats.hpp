@@ -63,12 +63,15 @@ inline bool depth_row_kept(const Frame& f) noexcept { return f.depth.format == D
 // clean_parallax's clamps), in one direction for every code when the frame's constants are
 // finite. The one NaN, a reciprocal's 0 * inf at code 0 with b = +-0, becomes key_far beside one
 // key for every other code: the larger of the two ends is still the row's nearest key.
+// The formats whose stored value is a UNORM code alone, d = code / max (not the packed format's
+// affine map, not floats).
+constexpr bool has_unorm_codes(DepthFormat format) noexcept {
+  return format == DepthFormat::unorm16 || format == DepthFormat::unorm24_s8 || format == DepthFormat::s8_unorm24;
+}
 inline bool near_pass_by_codes(const Frame& f) noexcept {
-  const bool unorm = f.depth.format == DepthFormat::unorm16 || f.depth.format == DepthFormat::unorm24_s8 ||
-                     f.depth.format == DepthFormat::s8_unorm24;
   const bool finite = f.affine ? std::isfinite(f.decode_scale) && std::isfinite(f.decode_offset)
                                : std::isfinite(f.a) && std::isfinite(f.b);
-  return unorm && finite;
+  return has_unorm_codes(f.depth.format) && finite;
 }
 
 // The word (or code) that stores depth d in the frame's format; `kept` is the source word whose
