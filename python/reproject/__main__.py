@@ -136,6 +136,13 @@ def main(argv=None):
             probe_parallax=args.probe_parallax, march_steps=args.march_steps, secant_max_steps=args.secant_max_steps,
             arch=args.arch, threads=args.threads, segment_frames=args.segment_frames, resume=args.resume,
             workers=args.workers, scheduler=args.scheduler, retries=args.retries, quiet=quiet)
+        # The outputs are in place: from here on a stop signal is ignored, to the end of the
+        # process. (_stop lets it pass only while the module's flag says so; and at exit Python puts
+        # back the default action, dying of the signal, for every signal it has a handler for but
+        # not for an ignored one: a SIGTERM during the interpreter's shutdown ended a finished run
+        # "killed", its complete output beside it, in one test run of tests/python/test_video_runs.py.)
+        for signum in _STOPPING:
+            signal.signal(signum, signal.SIG_IGN)
         print("wrote " + ", ".join(outputs))
         return 0
     except video.ConvertError as error:
