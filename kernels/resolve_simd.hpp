@@ -1,13 +1,12 @@
 // Internal: SIMD twin of kernels/resolve.cpp, the resolve stage every method shares
 // (docs/DESIGN.md §6 "One resolve stage for all").
 //
-// A row's vectors take one of two paths. Nearly all of them, on any scene, are plain: every
-// lane's source x lies in the row and every lane is a hit or clipped (no wall, nothing outside).
-// Those run a loop compiled once per colour path and with or without the depth output
-// (resolve_hits), with nothing in it that only the rare vectors need. A vector with any other lane
-// (outside, a hole) goes to resolve_vector, the general case, which handles every mix; for the
-// plain lanes it computes exactly what the hit loop computes, so a vector's bits do not depend on
-// its path.
+// A row's vectors take one of two paths. Nearly all of them, on any scene, are plain: every lane's source
+// x lies in the row and every lane is a hit or clipped (no wall, nothing outside). Those run a loop compiled
+// once per colour path and with or without the depth output (resolve_hits), with nothing in it that only
+// the rare vectors need. A vector with any other lane (outside, a hole) goes to resolve_vector, the general
+// case, which handles every mix; for the plain lanes it computes exactly what the hit loop computes, so a
+// vector's bits do not depend on its path.
 #pragma once
 
 #include <type_traits>
@@ -331,12 +330,11 @@ struct StoredSearch {
   REPROJECT_ALWAYS_INLINE void next() const {}
 };
 
-// The row's vectors (target pixels [0, whole)), each either plain (hits and clipped lanes in the
-// row), done here, or handed to resolve_vector. For plain lanes resolve_vector computes the same:
-// nothing is outside, so xs = x, the clamp leaves x (but turns -0 into +0: kept as vmax), a
-// clipped lane is never a hole, no lane is masked or black, and the status is hit (0) or clipped (3).
-// (Out of line, one call per row: so that each path's loop is a function of its own in profiles
-// and instruction counts, bench/instruction_count.py, whatever the compiler would have inlined.)
+// The row's vectors (target pixels [0, whole)), each either plain (hits and clipped lanes in the row), done
+// here, or handed to resolve_vector. For plain lanes resolve_vector computes the same: nothing is outside,
+// so xs = x, the clamp leaves x, a clipped lane is never a hole, no lane is masked or black, and the status
+// is hit (0) or clipped (3). (Out of line, one call per row: so that each path's loop is a function of its
+// own in profiles and instruction counts, bench/instruction_count.py, whatever the compiler would inline.)
 template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally, class Search>
 REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whole, Tally& tally, Search search) {
   REPROJECT_LANE_TYPES(Arch);
@@ -344,28 +342,30 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
   // may alias anything, so fields read through a reference would be reloaded after each of them.
   const RowContext<Arch> row = whole_row;
   const F zero(0.0f), one(1.0f);
+  // x in [0, last] on its bits (floats >= +0 order as their bits do; a negative one, -0 too, and a
+  // NaN fall outside: -0 then takes the general path, whose clamp gives it the same bits as here).
+  const I last_bits = bits_of<Arch>(row.last);
+  const bool extras = row.status_out || row.x_out;  // one test per vector when neither is asked for
   ColumnFetch<Arch> columns(row.source_width);
   for (int t = 0; t < whole; t += L, search.next()) {
     const F x = search.x(t);
-    // All in [0, last] (a NaN x fails too, and takes the general path).
-    if (!xsimd::all((x >= zero) & (x <= row.last))) {
+    const I x_bits = bits_of<Arch>(x);
+    if (xsimd::any((x_bits < I(0)) | (x_bits > last_bits))) {
       search.keep(t, x, search.clipped(t));
       resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;
     }
     const B clipped = search.clipped(t);
-    const F xc = vmax(x, zero);
-    const F j0 = vfloor(xc);
+    const F j0 = vfloor(x);
     const F j1 = vmin(j0 + one, row.last);
-    const F frac = xc - j0;
+    const F frac = x - j0;
     if (!columns.plan_next_and_visit(j0, j1, WriteHits<Path, WithDepth, Arch, Fma, Tally>{row, tally, t, j0, j1, frac, clipped})) {
       search.keep(t, x, clipped);
       resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;
     }
-    if (row.status_out) {
-      store_bytes<Arch>(xsimd::any(clipped) ? xsimd::select(clipped, F(3.0f), zero) : zero, row.status_out + t);
-    }
+    if (!extras) continue;
+    if (row.status_out) store_bytes<Arch>(xsimd::select(clipped, F(3.0f), zero), row.status_out + t);
     if (row.x_out) x.store_unaligned(row.x_out + t);
   }
 }
