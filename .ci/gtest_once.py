@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Run the GoogleTest cases that ctest registered, each test program once, instead of one process
-per case: CI's Windows suites, where every process is a Wine process, slow to start (and the
+"""Run the GoogleTest cases that ctest registered, each test program in a few runs of many cases
+(--jobs), instead of one process per case: CI's Windows suites, where every process is a Wine process, slow to start (and the
 tool's tests start more of their own). Measured figures: README "Windows".
 
   gtest_once.py --build DIR --work DIR --rest FILE [--own-process REGEX] [--jobs N]
