@@ -298,7 +298,7 @@ struct WriteHits {
   const RowContext<Arch>& row;
   Tally& tally;
   int t;
-  F j0, j1, frac;
+  F j0, frac;
   B clipped;
 
   template <class Fetch>
@@ -309,6 +309,7 @@ struct WriteHits {
     tally.add(static_cast<int>(Fetch::mode));
     prefetch_next_row<Path>(row, t);
     const B none(false);
+    const F j1 = vmin(j0 + F(1.0f), row.last);  // read by the pixel paths only (and then computed)
     write_color<Path, Arch, Fma>(row, fetch, t, j0, j1, frac, ~none, none, false, false);
     if constexpr (WithDepth) write_depth<Arch, Fma>(row, fetch, t, frac, ~none, false);
     return true;
@@ -341,7 +342,7 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
   // A copy the compiler can keep in registers: the stores below go through byte pointers, which
   // may alias anything, so fields read through a reference would be reloaded after each of them.
   const RowContext<Arch> row = whole_row;
-  const F zero(0.0f), one(1.0f);
+  const F zero(0.0f);
   // x in [0, last] on its bits (floats >= +0 order as their bits do; a negative one, -0 too, and a
   // NaN fall outside: -0 then takes the general path, whose clamp gives it the same bits as here).
   const I last_bits = bits_of<Arch>(row.last);
@@ -357,9 +358,8 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
     }
     const B clipped = search.clipped(t);
     const F j0 = vfloor(x);
-    const F j1 = vmin(j0 + one, row.last);
     const F frac = x - j0;
-    if (!columns.plan_next_and_visit(j0, j1, WriteHits<Path, WithDepth, Arch, Fma, Tally>{row, tally, t, j0, j1, frac, clipped})) {
+    if (!columns.plan_next_and_visit(j0, row.last, WriteHits<Path, WithDepth, Arch, Fma, Tally>{row, tally, t, j0, frac, clipped})) {
       search.keep(t, x, clipped);
       resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;

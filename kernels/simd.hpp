@@ -107,14 +107,16 @@ class ColumnFetch {
 
   // (Re)plans for new column sets (hole fills).
   void bind(const F& first, const F& second) {
-    plan<false>(first, second, [&](auto mode) REPROJECT_ALWAYS_INLINE { mode_ = decltype(mode)::value; });
+    plan<false>(first, [&] { return second; }, [&](auto mode) REPROJECT_ALWAYS_INLINE { mode_ = decltype(mode)::value; });
   }
 
-  // Plans for first and second = min(first + 1, last column) (the hit loop's columns), then
+  // Plans for first and second = min(first + 1, last_column) (the hit loop's columns), then
   // returns body(fetch) with a fetch compiled for the plan: one branch per vector, on the plan
-  // itself, instead of a plan and then a switch on it.
+  // itself, instead of a plan and then a switch on it. (second is computed only by the modes
+  // that read it: not by the consecutive one, the common case.)
   template <class Body>
-  REPROJECT_ALWAYS_INLINE bool plan_next_and_visit(const F& first, const F& second, const Body& body) {
+  REPROJECT_ALWAYS_INLINE bool plan_next_and_visit(const F& first, const F& last_column, const Body& body) {
+    const auto second = [&]() REPROJECT_ALWAYS_INLINE { return vmin(first + F(1.0f), last_column); };
     return plan<true>(first, second, [&](auto mode) REPROJECT_ALWAYS_INLINE {
       mode_ = decltype(mode)::value;
       return body(Fetch<decltype(mode)::value>{this});
@@ -143,11 +145,11 @@ class ColumnFetch {
   template <Mode M>
   using ModeTag = std::integral_constant<Mode, M>;
 
-  // Sets the lane indices of the plan for first and second and returns on(ModeTag). SecondIsNext:
-  // the caller promises second = min(first + 1, last column) (so a consecutive first, whose
-  // columns end before the row does, has a consecutive second).
-  template <bool SecondIsNext, class OnMode>
-  REPROJECT_ALWAYS_INLINE auto plan(const F& first, const F& second, const OnMode& on) {
+  // Sets the lane indices of the plan for first and second = second_of() and returns
+  // on(ModeTag). SecondIsNext: the caller promises second = min(first + 1, last column) (so a
+  // consecutive first, whose columns end before the row does, has a consecutive second).
+  template <bool SecondIsNext, class SecondOf, class OnMode>
+  REPROJECT_ALWAYS_INLINE auto plan(const F& first, const SecondOf& second_of, const OnMode& on) {
     if constexpr (has_permute<Arch>()) {
       // Lane i reads column base + i (and base + i + 1): plain loads, nothing to permute. Tested
       // from lane 0 first, without a reduction: the common case on smooth surfaces.
@@ -155,9 +157,10 @@ class ColumnFetch {
       const F lanes = F(lane0) + lane_offsets<Arch>();
       base_ = static_cast<int>(lane0);
       if (base_ + L < row_length_ &&
-          xsimd::all(SecondIsNext ? first == lanes : (first == lanes) & (second == lanes + F(1.0f)))) {
+          xsimd::all(SecondIsNext ? first == lanes : (first == lanes) & (second_of() == lanes + F(1.0f)))) {
         return on(ModeTag<Mode::consecutive>{});
       }
+      const F second = second_of();
       const float lowest = lane_min<Arch>(first);
       base_ = static_cast<int>(lowest);
       const F from_base = first - F(lowest);
@@ -176,7 +179,7 @@ class ColumnFetch {
       }
     }
     index_for_gather(first_, xsimd::to_int(first));
-    index_for_gather(second_, xsimd::to_int(second));
+    index_for_gather(second_, xsimd::to_int(second_of()));
     return on(ModeTag<Mode::gather>{});
   }
 
