@@ -53,8 +53,12 @@ struct CountedTable {
 };
 
 // Null / {null, null} for a set this build does not compile (another processor family, or
-// REPROJECT_SIMD=OFF) and for Arch::scalar.
+// REPROJECT_SIMD=OFF) and for Arch::scalar; counted_kernels also for every set when the counting
+// tables are not compiled (fetch_counts_compiled() false).
 const ArchLayerChecks* arch_layer_checks(Arch arch);
 CountedTable counted_kernels(Arch arch);
+// False in a build configured with -DREPROJECT_TEST_FETCH_COUNTS=OFF (CI's sanitizer build): the
+// tests that read the counts run their other checks and say that they counted nothing.
+bool fetch_counts_compiled();
 
 }  // namespace reproject::test
