@@ -177,9 +177,16 @@ class ColumnFetch {
         index_for_two_registers(second_, xsimd::to_int(second_from_base));
         return on(ModeTag<Mode::spanning>{});
       }
+      return plan_gather(first, second, on);
+    } else {
+      return plan_gather(first, second_of(), on);
     }
+  }
+
+  template <class OnMode>
+  REPROJECT_ALWAYS_INLINE auto plan_gather(const F& first, const F& second, const OnMode& on) {
     index_for_gather(first_, xsimd::to_int(first));
-    index_for_gather(second_, xsimd::to_int(second_of()));
+    index_for_gather(second_, xsimd::to_int(second));
     return on(ModeTag<Mode::gather>{});
   }
 
