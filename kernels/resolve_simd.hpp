@@ -9,6 +9,7 @@
 // vector's bits do not depend on its path.
 #pragma once
 
+#include <limits>
 #include <type_traits>
 
 #include "kernels/color_formats_simd.hpp"
@@ -344,14 +345,16 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
   const RowContext<Arch> row = whole_row;
   const F zero(0.0f);
   // x in [0, last] on its bits (floats >= +0 order as their bits do; a negative one, -0 too, and a
-  // NaN fall outside: -0 then takes the general path, whose clamp gives it the same bits as here).
-  const I last_bits = bits_of<Arch>(row.last);
+  // NaN fall outside: -0 then takes the general path, whose clamp gives it the same bits as here),
+  // as one compare: the bits as unsigned integers (a sign bit makes them larger than last's),
+  // compared as signed ones with their top bits flipped.
+  const I top_bit(std::numeric_limits<std::int32_t>::min());
+  const I last_key = bits_of<Arch>(row.last) ^ top_bit;
   const bool extras = row.status_out || row.x_out;  // one test per vector when neither is asked for
   ColumnFetch<Arch> columns(row.source_width);
   for (int t = 0; t < whole; t += L, search.next()) {
     const F x = search.x(t);
-    const I x_bits = bits_of<Arch>(x);
-    if (xsimd::any((x_bits < I(0)) | (x_bits > last_bits))) {
+    if (xsimd::any((bits_of<Arch>(x) ^ top_bit) > last_key)) {
       search.keep(t, x, search.clipped(t));
       resolve_vector<Arch, Fma>(whole_row, t, tally);
       continue;
