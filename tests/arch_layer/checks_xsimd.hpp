@@ -168,7 +168,8 @@ Outcome check_xsimd_convert() {
   return out;
 }
 
-// Wrapping integer arithmetic, bitwise operations, arithmetic right and left shifts.
+// Wrapping integer arithmetic, bitwise operations, signed comparisons, arithmetic right and left
+// shifts.
 template <class Arch>
 Outcome check_xsimd_integer() {
   Outcome out;
@@ -182,16 +183,25 @@ Outcome check_xsimd_integer() {
     std::memcpy(x, a, sizeof x);
     std::memcpy(y, b, sizeof y);
     const auto p = V::ints(x), q = V::ints(y);
-    std::int32_t got[5][L];
+    using I = typename V::I;
+    constexpr int kOps = 10;
+    std::int32_t got[kOps][L];
     V::ints_out(p + q, got[0]);
     V::ints_out(p - q, got[1]);
     V::ints_out(p * q, got[2]);
     V::ints_out(p & q, got[3]);
     V::ints_out(p | q, got[4]);
-    const char* names[5] = {"+", "-", "*", "&", "|"};
+    V::ints_out(p ^ q, got[5]);
+    // Signed comparisons, read through a select (lane 1 where true, 0 where false).
+    V::ints_out(xsimd::select(p < q, I(1), I(0)), got[6]);
+    V::ints_out(xsimd::select(p > q, I(1), I(0)), got[7]);
+    V::ints_out(xsimd::select(p == q, I(1), I(0)), got[8]);
+    V::ints_out(xsimd::select(p != q, I(1), I(0)), got[9]);
+    const char* names[kOps] = {"+", "-", "*", "&", "|", "^", "<", ">", "==", "!="};
     for (int i = 0; i < L; ++i) {
-      const std::uint32_t want[5] = {a[i] + b[i], a[i] - b[i], a[i] * b[i], a[i] & b[i], a[i] | b[i]};
-      for (int k = 0; k < 5; ++k) {
+      const std::uint32_t want[kOps] = {a[i] + b[i], a[i] - b[i], a[i] * b[i], a[i] & b[i], a[i] | b[i], a[i] ^ b[i],
+                                        x[i] < y[i], x[i] > y[i], x[i] == y[i], x[i] != y[i]};
+      for (int k = 0; k < kOps; ++k) {
         ++out.lanes;
         if (static_cast<std::uint32_t>(got[k][i]) != want[k]) out.fail(lane_text(i) + show(a[i]) + " " + names[k] + " " + show(b[i]) + " differs");
       }
