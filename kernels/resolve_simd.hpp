@@ -9,7 +9,6 @@
 // vector's bits do not depend on its path.
 #pragma once
 
-#include <limits>
 #include <type_traits>
 
 #include "kernels/color_formats_simd.hpp"
@@ -344,12 +343,10 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
   // may alias anything, so fields read through a reference would be reloaded after each of them.
   const RowContext<Arch> row = whole_row;
   const F zero(0.0f);
-  // x in [0, last] on its bits (floats >= +0 order as their bits do; a negative one, -0 too, and a
-  // NaN fall outside: -0 then takes the general path, whose clamp gives it the same bits as here),
-  // as one compare: the bits as unsigned integers (a sign bit makes them larger than last's),
-  // compared as signed ones with their top bits flipped.
-  const I top_bit(std::numeric_limits<std::int32_t>::min());
-  const I last_key = bits_of<Arch>(row.last) ^ top_bit;
+  // x in [0, last] on its bits, as unsigned integers (compared as signed ones with the top bit
+  // flipped): floats >= +0 order as their bits do; a negative one, -0 too, and a NaN fall outside
+  // (-0 then takes the general path, whose clamp gives it the same bits as here).
+  const I top_bit(INT32_MIN), last_key = bits_of<Arch>(row.last) ^ top_bit;
   const bool extras = row.status_out || row.x_out;  // one test per vector when neither is asked for
   ColumnFetch<Arch> columns(row.source_width);
   for (int t = 0; t < whole; t += L, search.next()) {
