@@ -215,7 +215,7 @@ inline void store_half4(std::uint8_t* p, Pixel4 value);
 //    twins use it on flags only (load_flags);
 //  * masks: batch_bool(bool) broadcasts, ~, &, | lane by lane, any() and all();
 //  * to_int truncates toward zero and to_float rounds to nearest even, within the int32 range;
-//  * integer +, -, * wrap around, &, |, ^, >> is arithmetic, << logical; <, >, ==, != signed;
+//  * integer +, -, * wrap around, &, |, ^, >> is arithmetic, << logical; <, > signed; ==, !=;
 //  * float +, -, * as IEEE (NaNs as vmadd); unary - flips the sign of lanes that are neither
 //    zero nor NaN (xsimd 8.1's AVX-512 negation is 0 - x, which keeps +0 as +0).
 

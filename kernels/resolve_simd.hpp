@@ -343,7 +343,7 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
   // may alias anything, so fields read through a reference would be reloaded after each of them.
   const RowContext<Arch> row = whole_row;
   const F zero(0.0f);
-  // x in [0, last] on its bits, as unsigned integers (compared as signed ones with the top bit
+  // x in [0, last >= 0] on its bits, as unsigned integers (compared as signed ones with the top bit
   // flipped): floats >= +0 order as their bits do; a negative one, -0 too, and a NaN fall outside
   // (-0 then takes the general path, whose clamp gives it the same bits as here).
   const I top_bit(INT32_MIN), last_key = bits_of<Arch>(row.last) ^ top_bit;

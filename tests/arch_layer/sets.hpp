@@ -57,7 +57,7 @@ struct CountedTable {
 // tables are not compiled (fetch_counts_compiled() false).
 const ArchLayerChecks* arch_layer_checks(Arch arch);
 CountedTable counted_kernels(Arch arch);
-// False in a build configured with -DREPROJECT_TEST_FETCH_COUNTS=OFF (CI's sanitizer build): the
+// False in a build configured with -DREPROJECT_TEST_FETCH_COUNTS=OFF (some of CI's builds): the
 // tests that read the counts run their other checks and say that they counted nothing.
 bool fetch_counts_compiled();
 
