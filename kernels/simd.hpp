@@ -161,26 +161,38 @@ class ColumnFetch {
         return on(ModeTag<Mode::consecutive>{});
       }
       const F second = second_of();
-      const float lowest = lane_min<Arch>(first);
-      base_ = static_cast<int>(lowest);
-      const F from_base = first - F(lowest);
-      const F second_from_base = second - F(lowest);
-      if (base_ + L < row_length_ &&
-          xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
-                     (second_from_base <= F(static_cast<float>(L))))) {
-        index_for_permute(first_, xsimd::to_int(from_base));
-        index_for_permute(second_, xsimd::to_int(second_from_base - F(1.0f)));
-        return on(ModeTag<Mode::shifted>{});
-      }
-      if (base_ + 2 * L <= row_length_ && xsimd::all(second_from_base < F(static_cast<float>(2 * L)))) {
-        index_for_two_registers(first_, xsimd::to_int(from_base));
-        index_for_two_registers(second_, xsimd::to_int(second_from_base));
-        return on(ModeTag<Mode::spanning>{});
+      // Lane 0 holds the lowest column on most surfaces (x grows with t): then no reduction.
+      const float lowest = xsimd::all(first >= F(lane0)) ? lane0 : lane_min<Arch>(first);
+      switch (plan_permutes(first, second, lowest)) {
+        case Mode::shifted: return on(ModeTag<Mode::shifted>{});
+        case Mode::spanning: return on(ModeTag<Mode::spanning>{});
+        default: break;
       }
       return plan_gather(first, second, on);
     } else {
       return plan_gather(first, second_of(), on);
     }
+  }
+
+  // The permute mode for columns at or above `lowest` (a lane's value), with base_ and the lane
+  // indices set for it; gather if none fits.
+  REPROJECT_ALWAYS_INLINE Mode plan_permutes(const F& first, const F& second, float lowest) {
+    base_ = static_cast<int>(lowest);
+    const F from_base = first - F(lowest);
+    const F second_from_base = second - F(lowest);
+    if (base_ + L < row_length_ &&
+        xsimd::all((from_base < F(static_cast<float>(L))) & (second_from_base >= F(1.0f)) &
+                   (second_from_base <= F(static_cast<float>(L))))) {
+      index_for_permute(first_, xsimd::to_int(from_base));
+      index_for_permute(second_, xsimd::to_int(second_from_base - F(1.0f)));
+      return Mode::shifted;
+    }
+    if (base_ + 2 * L <= row_length_ && xsimd::all(second_from_base < F(static_cast<float>(2 * L)))) {
+      index_for_two_registers(first_, xsimd::to_int(from_base));
+      index_for_two_registers(second_, xsimd::to_int(second_from_base));
+      return Mode::spanning;
+    }
+    return Mode::gather;
   }
 
   template <class OnMode>
