@@ -231,9 +231,9 @@ REPROJECT_ALWAYS_INLINE inline void write_depth(const RowContext<Arch>& row, con
   }
 }
 
-// Target pixels [t, t + L) whatever their lanes hold (scalar twin: resolve_pixels). `tally`
-// hears the fetch mode of every vector (kernels/simd.hpp, NoFetchTally).
-template <class Arch, class Fma, class Tally>
+// Target pixels [t, t + L) whatever their lanes hold (scalar twin: resolve_pixels), for the row's
+// colour path. `tally` hears the fetch mode of every vector (kernels/simd.hpp, NoFetchTally).
+template <ColorPath Path, class Arch, class Fma, class Tally>
 REPROJECT_NOINLINE void resolve_vector(const RowContext<Arch>& row, int t, Tally& tally) {
   REPROJECT_LANE_TYPES(Arch);
   const F zero(0.0f), one(1.0f);
@@ -273,9 +273,7 @@ REPROJECT_NOINLINE void resolve_vector(const RowContext<Arch>& row, int t, Tally
   const B black = outside & B(row.black_edges);
   const bool any_black = row.black_edges && xsimd::any(black);
   columns.visit([&](const auto& fetch) {
-    with_color_path<Arch>(row.path, [&](auto path) {
-      write_color<decltype(path)::value, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
-    });
+    write_color<Path, Arch, Fma>(row, fetch, t, j0, j1, frac, write, black, masked, any_black);
     if (row.depth_out) write_depth<Arch, Fma>(row, fetch, t, frac, write, masked);
   });
   if (row.status_out) {
@@ -353,7 +351,7 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
     const F x = search.x(t);
     if (xsimd::any((bits_of<Arch>(x) ^ top_bit) > last_key)) {
       search.keep(t, x, search.clipped(t));
-      resolve_vector<Arch, Fma>(whole_row, t, tally);
+      resolve_vector<Path, Arch, Fma>(whole_row, t, tally);
       continue;
     }
     const B clipped = search.clipped(t);
@@ -361,7 +359,7 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
     const F frac = x - j0;
     if (!columns.plan_next_and_visit(j0, row.last, WriteHits<Path, WithDepth, Arch, Fma, Tally>{row, tally, t, j0, frac, clipped})) {
       search.keep(t, x, clipped);
-      resolve_vector<Arch, Fma>(whole_row, t, tally);
+      resolve_vector<Path, Arch, Fma>(whole_row, t, tally);
       continue;
     }
     if (!extras) continue;
