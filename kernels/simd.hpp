@@ -161,7 +161,9 @@ class ColumnFetch {
         return on(ModeTag<Mode::consecutive>{});
       }
       const F second = second_of();
-      // Lane 0 holds the lowest column on most surfaces (x grows with t): then no reduction.
+      // Lane 0 holds the lowest column on most surfaces (x grows with t): then no reduction. The
+      // same plan as from lane_min: with no NaN, the two differ at most in a zero's sign, which the
+      // plan does not see.
       const float lowest = xsimd::all(first >= F(lane0)) ? lane0 : lane_min<Arch>(first);
       switch (plan_permutes(first, second, lowest)) {
         case Mode::shifted: return on(ModeTag<Mode::shifted>{});
@@ -175,7 +177,8 @@ class ColumnFetch {
   }
 
   // The permute mode for columns at or above `lowest` (a lane's value), with base_ and the lane
-  // indices set for it; gather if none fits.
+  // indices set for it; Mode::gather, with no indices set, if neither fits (the caller then plans
+  // the gather).
   REPROJECT_ALWAYS_INLINE Mode plan_permutes(const F& first, const F& second, float lowest) {
     base_ = static_cast<int>(lowest);
     const F from_base = first - F(lowest);
