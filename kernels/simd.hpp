@@ -244,9 +244,12 @@ class ColumnFetch {
   int row_length_;
   int base_ = 0;
   // Each column set's lanes (the arch layer's LaneIndex): absolute for gathers, from `base` for
-  // the permutes. Set by plan() for the modes that read them; not zeroed first (a vector's worth
-  // of stores per fetch plan, in the resolve's hottest loop).
-  LaneIndex<Arch> first_, second_;
+  // the permutes. Set by plan() for the modes that read them, and not zeroed by it (a vector's
+  // worth of stores per plan, in the resolve's hottest loop); zeroed once when constructed (once
+  // per row, or per resolve_vector call), which also keeps GCC's -Wmaybe-uninitialized quiet: with
+  // resolve_vector inlined per colour path, g++ 12 with xsimd 13.2 could not see that a mode's
+  // fetch reads only what its plan set.
+  LaneIndex<Arch> first_{}, second_{};
 };
 
 }  // namespace
