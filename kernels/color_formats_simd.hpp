@@ -1,7 +1,7 @@
 // Internal: SIMD twins of kernels/color_formats.hpp's colour blends (ColorRow::write;
 // docs/BEHAVIOUR.md "Pixel formats"): the same integer arithmetic and correctly rounded float
 // operations, lane by lane, so every arch stores the same bits as the scalar reference. Used by
-// kernels/resolve_simd.hpp.
+// kernels/resolve_row_simd.hpp.
 #pragma once
 
 #include <algorithm>

@@ -79,7 +79,7 @@ xsimd::batch_bool<float, Arch> load_flags(const float* in) {
 //    per set;
 //  * otherwise gathers.
 // Vectors per column-fetch mode: the resolve tells its tally the mode of every vector it fetches,
-// and each row's colour path (kernels/resolve_simd.hpp ColorPath). The library's tables count
+// and each row's colour path (kernels/resolve_row_simd.hpp ColorPath). The library's tables count
 // nothing (NoFetchTally: empty, so the calls compile to nothing and the release loops carry no
 // counter); the tests build tables of their own with a counting tally (tests/arch_layer/set.cpp)
 // to show that every mode ran, and that a frame took the colour path it was planned for.

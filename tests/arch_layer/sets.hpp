@@ -35,7 +35,7 @@ struct ArchLayerChecks {
 };
 
 // Vectors the resolve read in each column-fetch mode (consecutive, shifted, spanning, gather), and
-// rows it resolved on each colour path (kernels/resolve_simd.hpp ColorPath; set.cpp checks these
+// rows it resolved on each colour path (kernels/resolve_row_simd.hpp ColorPath; set.cpp checks these
 // two indices against it).
 constexpr int kPathSrgbByGathers = 4, kPathSrgbByPermutes = 5;
 struct FetchModeCounts {
