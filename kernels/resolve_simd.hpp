@@ -14,14 +14,23 @@
 namespace reproject::detail {
 namespace {  // one copy per arch TU (kernels/fma.hpp)
 
-// The lanes whose hole takes its colour and depth from the second column, j1, not j0: a wall's
-// farther endpoint (DESIGN §5: the smaller key s * p), or with HoleFill::foreground its nearer one.
+// The lanes in `hole` of j0, j1 and frac moved to the hole's fill column at weight 0 (both columns
+// the fill column, so any blend gives its values): of j0 and j1, a wall's farther endpoint (DESIGN
+// §5: the smaller key s * p), or with HoleFill::foreground its nearer one. Returns the lanes whose
+// fill column is j1. Both paths fill holes through this (resolve_vector, WriteHits).
 template <class Arch>
-REPROJECT_ALWAYS_INLINE inline xsimd::batch_bool<float, Arch> fill_from_second(const RowContext<Arch>& row,
-                                                                              const xsimd::batch<float, Arch>& p0,
-                                                                              const xsimd::batch<float, Arch>& p1) {
+REPROJECT_ALWAYS_INLINE inline xsimd::batch_bool<float, Arch> move_holes_to_fill(
+    const RowContext<Arch>& row, const xsimd::batch<float, Arch>& p0, const xsimd::batch<float, Arch>& p1,
+    const xsimd::batch_bool<float, Arch>& hole, xsimd::batch<float, Arch>& j0, xsimd::batch<float, Arch>& j1,
+    xsimd::batch<float, Arch>& frac) {
+  using F = xsimd::batch<float, Arch>;
   const auto j1_farther = row.s * p1 < row.s * p0;
-  return row.fill_foreground ? ~j1_farther : j1_farther;
+  const auto second = row.fill_foreground ? ~j1_farther : j1_farther;
+  const F fill = xsimd::select(second, j1, j0);
+  j0 = xsimd::select(hole, fill, j0);
+  j1 = xsimd::select(hole, fill, j1);
+  frac = xsimd::select(hole, F(0.0f), frac);
+  return second;
 }
 
 // A column fetch whose lanes in `hole` read both columns at the fill column (j0's or j1's, as
@@ -68,10 +77,7 @@ REPROJECT_NOINLINE void resolve_vector(const RowContext<Arch>& row, int t, Tally
   const B hole = ((p1 - p0) > row.tau) & ~(clipped | outside);
   const bool any_hole = xsimd::any(hole);
   if (any_hole) {
-    const F fill = xsimd::select(fill_from_second<Arch>(row, p0, p1), j1, j0);
-    j0 = xsimd::select(hole, fill, j0);
-    j1 = xsimd::select(hole, fill, j1);
-    frac = xsimd::select(hole, zero, frac);
+    move_holes_to_fill<Arch>(row, p0, p1, hole, j0, j1, frac);
     columns.bind(j0, j1);
     tally.add(static_cast<int>(columns.mode()));
   }
@@ -119,16 +125,14 @@ struct WriteHits {
     if (any_hole && !row.holes_written) return false;
     tally.add(static_cast<int>(Fetch::mode));
     prefetch_next_row<Path>(row, t);
-    const F j1 = vmin(j0 + F(1.0f), row.last);  // read by the pixel paths and holes only (and then computed)
+    F first = j0, second = vmin(j0 + F(1.0f), row.last), weight = frac;  // second: read by the pixel paths and holes only
     if (!any_hole) {
       holes = B(false);
-      write(fetch, j0, j1, frac);
+      write(fetch, first, second, weight);
       return true;
     }
-    const B second = fill_from_second<Arch>(row, p0, p1);
-    const F fill = xsimd::select(second, j1, j0);
-    write(FillingFetch<Arch, Fetch>{fetch, hole, second}, xsimd::select(hole, fill, j0), xsimd::select(hole, fill, j1),
-          xsimd::select(hole, F(0.0f), frac));
+    const B fill_second = move_holes_to_fill<Arch>(row, p0, p1, hole, first, second, weight);
+    write(FillingFetch<Arch, Fetch>{fetch, hole, fill_second}, first, second, weight);
     holes = hole;
     return true;
   }
