@@ -21,12 +21,32 @@ void with_decode_shape(const Frame& f, const Body& body) {
   else body(std::false_type{});
 }
 
-// Scalar twin: decode_parallax_columns.
+// The decode's key s * p of stored depth values d, clamped as clean_parallax clamps it (scalar
+// twins: raw_parallax, clean_parallax), in fewer operations and with the same bits except for a
+// zero's sign: s = +-1 and a sign flip commutes with rounding, so the key is the decode with s
+// folded into its constants; clean_parallax is then a clamp of the key to [key_far, limit] (vmax
+// gives key_far for a NaN, and key_far <= limit), no compare and select. Only a sum that cancels
+// can give a zero of the other sign (+0 either way); decode_parallax's + 0 makes every zero +0.
+template <class Arch, class Fma>
+struct ClampedKeys {
+  using F = typename Lanes<Arch>::F;
+  F scale, offset, a, b, key_far, limit;
+  explicit ClampedKeys(const Frame& f)
+      : scale(f.s * f.decode_scale), offset(f.s * f.decode_offset), a(f.s * f.a), b(f.s * f.b), key_far(f.key_far),
+        limit(f.limit) {}
+  template <bool Affine>
+  REPROJECT_ALWAYS_INLINE F of(const F& d) const {
+    const F key = Affine ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(F(1.0f), d), a);
+    return vmin(vmax(key, key_far), limit);
+  }
+};
+
+// Scalar twin: decode_parallax_columns: p = s * key, exact, the + 0 fused into that product.
 template <class Arch, class Fma>
 void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, float* stored) {
   REPROJECT_LANE_TYPES(Arch);
-  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
-  const F key_far(f.key_far), p_far(f.p_far), limit(f.limit), near_bound(f.s * f.limit), one(1.0f);
+  const ClampedKeys<Arch, Fma> keys(f);
+  const F s(f.s), zero(0.0f);
   const int width = f.source_width;  // a local: the stores may alias f's fields
   int i = 0;
   // One loop per depth format and decode shape, without a branch per vector for either.
@@ -35,11 +55,7 @@ void simd_decode(const Frame& f, const std::uint8_t* depth, float* parallax, flo
       for (; i + L <= width; i += L) {
         const F d = load_depth_values<Arch, Fma, decltype(format)::value>(f, depth, i);
         if (stored) d.store_unaligned(stored + i);
-        F p = decltype(affine)::value ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
-        const F key = s * p;
-        p = xsimd::select(key >= key_far, p, p_far);  // NaN and farther than infinity: infinity
-        p = xsimd::select(key > limit, near_bound, p);
-        (p + F(0.0f)).store_unaligned(parallax + i);  // -0 -> +0, as decode_parallax
+        vmadd<Fma>(s, keys.template of<decltype(affine)::value>(d), zero).store_unaligned(parallax + i);
       }
     });
   });
@@ -82,8 +98,7 @@ float nearest_key_of_code(const Frame& f, std::uint32_t code, float nearest) {
 template <class Arch, class Fma>
 float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
   REPROJECT_LANE_TYPES(Arch);
-  const F scale(f.decode_scale), offset(f.decode_offset), a(f.a), b(f.b), s(f.s);
-  const F key_far(f.key_far), limit(f.limit), one(1.0f);
+  const ClampedKeys<Arch, Fma> clamped_keys(f);
   const int width = f.source_width;
   float nearest = f.key_far;
   int i = 0;
@@ -106,14 +121,11 @@ float simd_nearest_key(const Frame& f, const std::uint8_t* depth) {
         return;
       }
     }
-    F keys = key_far;
+    F keys(f.key_far);
     with_decode_shape(f, [&](auto affine) {
       for (; i + L <= width; i += L) {
         const F d = load_depth_values<Arch, Fma, kFormat>(f, depth, i);
-        const F p = decltype(affine)::value ? vmadd<Fma>(scale, d, offset) : vmadd<Fma>(b, vdiv(one, d), a);
-        const F key = s * p;
-        // clean_parallax on keys: NaN and farther than infinity -> key_far; beyond L -> L.
-        keys = vmax(keys, xsimd::select(key >= key_far, vmin(key, limit), key_far));
+        keys = vmax(keys, clamped_keys.template of<decltype(affine)::value>(d));
       }
     });
     nearest = lane_max<Arch>(keys);
