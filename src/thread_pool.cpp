@@ -7,6 +7,15 @@
 
 #include "kernels/memory.hpp"
 
+#if defined(__x86_64__) || defined(__i386__) || defined(_M_X64) || defined(_M_IX86)
+#include <immintrin.h>
+#define REPROJECT_SPIN_PAUSE() _mm_pause()
+#elif (defined(__aarch64__) || defined(__arm__)) && (defined(__GNUC__) || defined(__clang__))
+#define REPROJECT_SPIN_PAUSE() __asm__ __volatile__("yield")
+#else
+#define REPROJECT_SPIN_PAUSE() ((void)0)
+#endif
+
 namespace reproject {
 namespace detail {
 
@@ -14,6 +23,18 @@ int hardware_threads() noexcept {
   static const int count = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   return count;
 }
+
+namespace {
+
+// Spins (a pause per test, to spare the other hardware thread of a core) while keep_waiting()
+// holds, for at most `limit`.
+template <class Condition>
+void spin_while(std::chrono::microseconds limit, const Condition& keep_waiting) noexcept {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  while (keep_waiting() && std::chrono::steady_clock::now() < until) REPROJECT_SPIN_PAUSE();
+}
+
+}  // namespace
 
 void ThreadPool::Job::work(int slot) noexcept {
   // Relaxed: the counter only hands out indices; the data a task reads and writes is ordered by
@@ -46,11 +67,19 @@ void ThreadPool::worker_loop() noexcept {
     if (stopping_) return;  // a job in progress is finished by its caller
     const int slot = ++job->helpers_joined;
     ++job->helpers_active;
+    job->working.fetch_add(1, std::memory_order_relaxed);
     lock.unlock();
     job->work(slot);
+    job->working.fetch_sub(1, std::memory_order_relaxed);
     lock.lock();
     // Notified under the lock: once the caller sees 0 it returns and the job is gone.
     if (--job->helpers_active == 0) job->done.notify_one();
+    // The next job, if it comes soon, without a wake-up (thread_pool.hpp). The loop's wait
+    // looks at the queue before it sleeps, so a job queued meanwhile is not missed.
+    const unsigned seen = queued_.load(std::memory_order_relaxed);
+    lock.unlock();
+    spin_while(kWorkerSpin, [&] { return queued_.load(std::memory_order_relaxed) == seen; });
+    lock.lock();
   }
 }
 
@@ -66,6 +95,7 @@ void ThreadPool::run(int count, int max_threads, Task task, void* context) noexc
       Job** tail = &jobs_;
       while (*tail != nullptr) tail = &(*tail)->next_job;
       *tail = &job;
+      queued_.fetch_add(1, std::memory_order_relaxed);
     }
   }
   if (job.helpers_wanted == 0) {
@@ -76,6 +106,9 @@ void ThreadPool::run(int count, int max_threads, Task task, void* context) noexc
   // before they sleep again.
   for (int i = 0; i < job.helpers_wanted; ++i) work_.notify_one();
   job.work(0);
+  // Every index is claimed: the helpers' last tasks end soon, and a sleeping caller would wake
+  // late (thread_pool.hpp).
+  spin_while(kCallerSpin, [&] { return job.working.load(std::memory_order_relaxed) != 0; });
 
   std::unique_lock<std::mutex> lock(mutex_);
   // Every index is claimed: take the job off the queue so no helper joins late, then wait for
@@ -93,6 +126,7 @@ void ThreadPool::stop() noexcept {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
+    queued_.fetch_add(1, std::memory_order_relaxed);
   }
   work_.notify_all();
   // A worker inside a job finishes its claimed tasks first; the job's caller does the rest.

@@ -5,7 +5,12 @@
 // call hands the pool a *job*: `count` tasks on at most `max_threads` threads. The caller always
 // works on its own job, so a job finishes even when every worker is busy elsewhere: several
 // callers at once (or a caller inside another job) never deadlock, they just get fewer helpers.
-// Idle workers sleep on a condition variable; nothing spins.
+// Idle workers sleep on a condition variable. Two short waits spin first, because waking a
+// sleeping thread costs tens of microseconds (bench/design_measurements.md: about 30 us per
+// two-thread call on a 2-core Xeon VM): a caller whose own tasks are done spins up
+// to kCallerSpin for its helpers' last tasks, and a worker whose job is done spins up to
+// kWorkerSpin for the next job (back-to-back calls: the views of a frame, the benchmarks), as
+// OpenMP runtimes do. Then both sleep; a worker never spins longer than kWorkerSpin per job.
 //
 // A job lives on its caller's stack and the queue is an intrusive list, so running a job takes no
 // memory. The pool itself comes from the library's allocator (kernels/memory.hpp) and its threads
@@ -16,6 +21,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <mutex>
 
@@ -35,6 +41,8 @@ class ThreadPool {
   using Task = void (*)(void* context, int index, int slot);
 
   static constexpr int kMaxThreads = 256;  // a bound on Options::threads, caller included
+  static constexpr std::chrono::microseconds kCallerSpin{200};
+  static constexpr std::chrono::microseconds kWorkerSpin{50};
 
   ThreadPool() noexcept = default;
   ~ThreadPool() { stop(); }
@@ -62,6 +70,9 @@ class ThreadPool {
     // Guarded by the pool's mutex:
     int helpers_joined = 0;
     int helpers_active = 0;  // joined and still working: the caller waits for 0
+    // Helpers still inside work(): read without the lock by the caller's spin only (a hint; the
+    // caller's return is decided by helpers_active, under the lock).
+    std::atomic<int> working{0};
     Job* next_job = nullptr;
     std::condition_variable done;
 
@@ -77,6 +88,7 @@ class ThreadPool {
   std::condition_variable work_;  // a job was queued, or shutdown
   Job* jobs_ = nullptr;           // jobs that may still take helpers, oldest first
   bool stopping_ = false;
+  std::atomic<unsigned> queued_{0};  // jobs queued and stops so far: what a spinning worker watches
   int worker_count_ = 0;
   OsThread workers_[kMaxThreads - 1];
 };
