@@ -218,6 +218,8 @@ inline void store_half4(std::uint8_t* p, Pixel4 value);
 //  * integer +, -, * wrap around, &, |, ^, >> is arithmetic, << logical; <, > signed; ==, !=;
 //  * float +, -, * as IEEE (NaNs as vmadd); unary - flips the sign of lanes that are neither
 //    zero nor NaN (xsimd 8.1's AVX-512 negation is 0 - x, which keeps +0 as +0).
+// Not used: bitwise_andnot(x, y), which xsimd 8.1 computes as ~x & y on x86 (andnps's operand
+// order) and as x & ~y on NEON (bic's); the twins write a & ~b.
 
 }  // namespace
 }  // namespace reproject::detail
