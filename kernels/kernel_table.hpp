@@ -27,6 +27,9 @@ struct KernelTable {
   // `single`'s search and the resolve in one pass over the row, the same bits as the two in turn;
   // null: the two in turn (the scalar tables).
   SearchAndResolveRow single_and_resolve;
+  // `march16`'s search and the resolve in chunks of the row, the same bits as the two in turn;
+  // null: the two in turn (the scalar tables).
+  SearchAndResolveRow march16_and_resolve;
   // Sets with two ways to read the sRGB tables (kernels/color_formats.hpp SrgbLookup): the
   // faster on this processor, timed at its first call (kernels/color_formats_simd.hpp
   // faster_srgb_lookup). Null on the others: they gather.

@@ -5,6 +5,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "kernels/resolve_simd.hpp"
 #include "kernels/search_simd.hpp"
 
 namespace reproject::detail {
@@ -67,13 +68,14 @@ MarchRange march_range(const Frame& f, const RowScratch& scratch, const float* s
   return {first, std::min(end + 1, samples)};
 }
 
+// The vectors of target pixels [t_begin, t_end) (whole vectors: t_begin and t_end multiples of
+// L), the row's samples tabled and its range found (MarchRow).
 template <class Arch, class Fma, bool Positive>
-void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax) {
+void simd_march16_vectors(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax,
+                          MarchRange range, int t_begin, int t_end) {
   REPROJECT_LANE_TYPES(Arch);
   // Locals, not f's or scratch's fields: the stores below go through float pointers, which may
   // alias them, so fields would be reloaded after each store.
-  const int width = f.target_width;
-  const MarchRange range = march_range<Arch>(f, scratch, sample_parallax, f.march_steps + 1);
   const float* row0 = scratch.parallax + f.guard;  // lane t's samples: row0 + t + sample_offset[k]
   float* source_x = scratch.source_x.data();
   float* clipped = scratch.clipped.data();
@@ -110,9 +112,8 @@ void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_off
     }
   };
   static_assert(kMarchChunk == 4 * kMarchGroup, "chunk_of_groups' cases");
-  F target = F(static_cast<float>(f.guard)) + lane_offsets<Arch>();  // t + guard: exact small integers
-  int t = 0;
-  for (; t + L <= width; t += L) {
+  F target = F(static_cast<float>(f.guard + t_begin)) + lane_offsets<Arch>();  // t + guard: exact small integers
+  for (int t = t_begin; t < t_end; t += L) {
     const float* row = row0 + t;
     store_flags<Arch>(s * F::load_unaligned(row + sample_offset[0]) > key_near, clipped + t);
     // The parallax of the first sample on or behind the surface; no hit: the far end.
@@ -129,21 +130,56 @@ void simd_march16_row(const Frame& f, RowScratch& scratch, const int* sample_off
     (target - hit_parallax).store_unaligned(source_x + t);
     target = target + step;
   }
-  search_row_march16<Fma>(f, scratch, t, width);
 }
+
+// One row's march: its samples tabled and its range found once, then any whole vectors of it.
+template <class Arch, class Fma>
+class MarchRow {
+ public:
+  MarchRow(const Frame& f, RowScratch& scratch) : f_(f), scratch_(scratch) {
+    const int samples = f.march_steps + 1;
+    // A whole group past the last sample: the last sample again (march_range).
+    for (int k = 0; k < samples + kMarchGroup; ++k) {
+      sample_parallax_[k] = madd<Fma>(static_cast<float>(std::min(k, samples - 1)), f.march_step, f.p_near);
+      sample_offset_[k] = point_offset(sample_parallax_[k]);
+    }
+    range_ = march_range<Arch>(f, scratch, sample_parallax_, samples);
+  }
+  // Target pixels [t_begin, t_end), multiples of the vector length.
+  void vectors(int t_begin, int t_end) const {
+    if (f_.s > 0.0f) simd_march16_vectors<Arch, Fma, true>(f_, scratch_, sample_offset_, sample_parallax_, range_, t_begin, t_end);
+    else simd_march16_vectors<Arch, Fma, false>(f_, scratch_, sample_offset_, sample_parallax_, range_, t_begin, t_end);
+  }
+
+ private:
+  const Frame& f_;
+  RowScratch& scratch_;
+  int sample_offset_[kMaxMarchSamples + kMarchGroup];
+  float sample_parallax_[kMaxMarchSamples + kMarchGroup];
+  MarchRange range_;
+};
 
 template <class Arch, class Fma>
 void simd_march16(const Frame& f, RowScratch& scratch) {
-  // A whole group past the last sample: the last sample again (march_range).
-  int sample_offset[kMaxMarchSamples + kMarchGroup];
-  float sample_parallax[kMaxMarchSamples + kMarchGroup];
-  const int samples = f.march_steps + 1;
-  for (int k = 0; k < samples + kMarchGroup; ++k) {
-    sample_parallax[k] = madd<Fma>(static_cast<float>(std::min(k, samples - 1)), f.march_step, f.p_near);
-    sample_offset[k] = point_offset(sample_parallax[k]);
-  }
-  if (f.s > 0.0f) simd_march16_row<Arch, Fma, true>(f, scratch, sample_offset, sample_parallax);
-  else simd_march16_row<Arch, Fma, false>(f, scratch, sample_offset, sample_parallax);
+  constexpr int L = Lanes<Arch>::size;
+  const int whole = f.target_width / L * L;
+  MarchRow<Arch, Fma>(f, scratch).vectors(0, whole);
+  search_row_march16<Fma>(f, scratch, whole, f.target_width);
+}
+
+// `march16`'s search and the resolve in chunks of kMarchResolveChunk target pixels
+// (KernelTable::march16_and_resolve): each chunk's x and clipped rows are read back by its
+// resolve while still in L1, where a whole row's may not be (at 4K a row's x, clipped, parallax,
+// source and output rows are about 75 KB). The same bits as simd_march16 then simd_resolve.
+constexpr int kMarchResolveChunk = 1024;  // a multiple of every set's vector length
+
+template <class Arch, class Fma, class Tally = NoFetchTally>
+void simd_march16_and_resolve(const Frame& f, int y, RowScratch& scratch) {
+  const MarchRow<Arch, Fma> march(f, scratch);
+  simd_resolve_in_chunks<Arch, Fma, Tally>(
+      f, y, scratch, StoredSearch<Arch>{scratch.source_x.data(), scratch.clipped.data()}, kMarchResolveChunk,
+      [&](int t_begin, int t_end) { march.vectors(t_begin, t_end); },
+      [&](int t_begin, int t_end) { search_row_march16<Fma>(f, scratch, t_begin, t_end); });
 }
 
 }  // namespace

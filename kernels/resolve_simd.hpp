@@ -9,6 +9,8 @@
 // it computes exactly what the hit loop computes, so a vector's bits do not depend on its path.
 #pragma once
 
+#include <algorithm>
+
 #include "kernels/resolve_row_simd.hpp"
 
 namespace reproject::detail {
@@ -160,14 +162,14 @@ struct StoredSearch {
   REPROJECT_ALWAYS_INLINE void next() const {}
 };
 
-// The row's vectors (target pixels [0, whole)), each either plain (hits, clipped lanes and written holes in
+// The row's vectors of target pixels [begin, end) (multiples of L), each either plain (hits, clipped lanes and written holes in
 // the row), done here, or handed to resolve_vector. For plain lanes resolve_vector computes the same:
 // nothing is outside, so xs = x, the clamp leaves x, a clipped lane is never a hole, a hole's columns both
 // become its fill column at weight 0 (FillingFetch), no lane is masked or black, and the status is hit (0),
 // hole (1) or clipped (3). (Out of line, one call per row: so that each path's loop is a function of its
 // own in profiles and instruction counts, bench/instruction_count.py, whatever the compiler would inline.)
 template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally, class Search>
-REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whole, Tally& tally, Search search) {
+REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int begin, int end, Tally& tally, Search search) {
   REPROJECT_LANE_TYPES(Arch);
   // A copy the compiler can keep in registers: the stores below go through byte pointers, which
   // may alias anything, so fields read through a reference would be reloaded after each of them.
@@ -179,7 +181,7 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
   const I top_bit(INT32_MIN), last_key = bits_of<Arch>(row.last) ^ top_bit;
   const bool extras = row.status_out || row.x_out;  // one test per vector when neither is asked for
   ColumnFetch<Arch> columns(row.source_width);
-  for (int t = 0; t < whole; t += L, search.next()) {
+  for (int t = begin; t < end; t += L, search.next()) {
     const F x = search.x(t);
     if (xsimd::any((bits_of<Arch>(x) ^ top_bit) > last_key)) {
       search.keep(t, x, search.clipped(t));
@@ -205,24 +207,42 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int whol
 }
 
 template <ColorPath Path, class Arch, class Fma, class Tally, class Search>
-void resolve_hits_of_path(const RowContext<Arch>& row, int whole, Tally& tally, const Search& search) {
-  if (row.depth_out) resolve_hits<Path, true, Arch, Fma>(row, whole, tally, search);
-  else resolve_hits<Path, false, Arch, Fma>(row, whole, tally, search);
+void resolve_hits_of_path(const RowContext<Arch>& row, int begin, int end, Tally& tally, const Search& search) {
+  if (row.depth_out) resolve_hits<Path, true, Arch, Fma>(row, begin, end, tally, search);
+  else resolve_hits<Path, false, Arch, Fma>(row, begin, end, tally, search);
 }
 
-// Row y's resolve, the vectors' x and clipped flags from `search`. Scalar twin: resolve_pixels.
-template <class Arch, class Fma, class Tally, class Search>
-void simd_resolve_with(const Frame& f, int y, const RowScratch& scratch, const Search& search) {
+// Row y's resolve in chunks of `chunk` target pixels (a multiple of L): search_vectors(begin, end)
+// then the resolve of each chunk's vectors, the vectors' x and clipped flags from `search`; then
+// search_tail(whole, width) and the tail's pixels (scalar twin: resolve_pixels). A search that
+// carries state from vector to vector (SingleProbe) takes one chunk.
+template <class Arch, class Fma, class Tally, class Search, class SearchVectors, class SearchTail>
+void simd_resolve_in_chunks(const Frame& f, int y, const RowScratch& scratch, const Search& search, int chunk,
+                            const SearchVectors& search_vectors, const SearchTail& search_tail) {
   constexpr int L = Lanes<Arch>::size;
   const RowContext<Arch> row(f, y, scratch);
   const int whole = f.target_width / L * L;
   Tally tally{};
   tally.row_path(static_cast<int>(row.path));
   with_color_path<Arch>(row.path, [&](auto path) {
-    resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, whole, tally, search);
+    for (int begin = 0; begin < whole; begin += chunk) {
+      const int end = std::min(begin + chunk, whole);
+      search_vectors(begin, end);
+      resolve_hits_of_path<decltype(path)::value, Arch, Fma>(row, begin, end, tally, search);
+    }
   });
   tally.end_row();
+  search_tail(whole, f.target_width);
   resolve_pixels<Fma>(f, y, scratch, whole, f.target_width);  // the tail
+}
+
+// Row y's resolve once its search has run (the tail's too), or as it runs (`search`). Scalar
+// twin: resolve_pixels.
+template <class Arch, class Fma, class Tally, class Search>
+void simd_resolve_with(const Frame& f, int y, const RowScratch& scratch, const Search& search) {
+  constexpr int L = Lanes<Arch>::size;
+  const auto nothing = [](int, int) {};
+  simd_resolve_in_chunks<Arch, Fma, Tally>(f, y, scratch, search, std::max(L, f.target_width / L * L), nothing, nothing);
 }
 
 template <class Arch, class Fma, class Tally = NoFetchTally>

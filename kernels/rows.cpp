@@ -26,6 +26,10 @@ void search_and_resolve(const Frame& f, const KernelTable& kernels, RowScratch& 
     kernels.single_and_resolve(f, y, scratch);
     return;
   }
+  if (f.method == Method::march16 && kernels.march16_and_resolve) {
+    kernels.march16_and_resolve(f, y, scratch);
+    return;
+  }
   kernels.search[static_cast<int>(f.method)](f, scratch);
   kernels.resolve(f, y, scratch);
 }

@@ -36,6 +36,7 @@ KernelTable make_simd_table(const char* name) {
   table.search[static_cast<int>(Method::exact)] = simd_exact<Arch, Fma>;
   table.resolve = simd_resolve<Arch, Fma, Tally>;
   table.single_and_resolve = simd_single_and_resolve<Arch, Fma, Tally>;
+  table.march16_and_resolve = simd_march16_and_resolve<Arch, Fma, Tally>;
   if constexpr (has_srgb_permutes<Arch>()) table.srgb_lookup = faster_srgb_lookup<Arch, Fma>;
   return table;
 }

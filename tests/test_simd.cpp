@@ -143,8 +143,10 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
   std::mt19937 rng(static_cast<unsigned>(arch) * 7919u + 17u);
   const int L = 16;  // the widest vector: covers every narrower one's tails too
   // Awkward widths, and the vector body / scalar tail boundary on every lane count (4, 8, 16)
-  // and one either side of it.
-  const int widths[] = {1, 3, 4, 5, 7, 8, 9, L - 1, L, L + 1, 31, 32, 33, 63, 64, 65, 5 * L + 3, 127, 128, 129, 131};
+  // and one either side of it; and rows of two and three of march16's resolve chunks, the last
+  // partial (kernels/march16_simd.hpp kMarchResolveChunk, 1024 target pixels).
+  const int widths[] = {1, 3, 4, 5, 7, 8, 9, L - 1, L, L + 1, 31, 32, 33, 63, 64, 65, 5 * L + 3, 127, 128, 129, 131,
+                        1024 + 5 * L + 3, 2 * 1024 + 2 * L + 1};
   long runs = 0, mismatched = 0;
   // The same set's table built once more with a tally of the resolve's column-fetch modes
   // (tests/arch_layer/set.cpp; the library's tables count nothing): it runs every case too, must
