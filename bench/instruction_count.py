@@ -29,7 +29,7 @@ import tempfile
 # Stages, by a piece of the (demangled) function name; the first match wins.
 STAGES = (
     ("decode", ("simd_decode<", "decode_parallax_columns<", "simd_nearest_key<", "nearest_key_in_columns<")),
-    ("search", ("simd_single<", "simd_march16", "search_row_single<", "search_row_march16<", "simd_exact<",
+    ("search", ("simd_single<", "simd_march16", "march_range<", "search_row_single<", "search_row_march16<", "simd_exact<",
                 "search_row_exact<", "simd_scanline<", "simd_secant<", "search_row_")),
     # (`single` on a SIMD table: its search runs inside the resolve's hit loop, simd_single_and_resolve.)
     ("resolve", ("resolve_hits<", "resolve_vector<", "simd_resolve<", "simd_single_and_resolve<", "resolve_pixels<")),
