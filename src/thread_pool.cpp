@@ -67,19 +67,19 @@ void ThreadPool::worker_loop() noexcept {
     if (stopping_) return;  // a job in progress is finished by its caller
     const int slot = ++job->helpers_joined;
     ++job->helpers_active;
-    job->working.fetch_add(1, std::memory_order_relaxed);
     lock.unlock();
     job->work(slot);
-    job->working.fetch_sub(1, std::memory_order_relaxed);
     lock.lock();
     // Notified under the lock: once the caller sees 0 it returns and the job is gone.
     if (--job->helpers_active == 0) job->done.notify_one();
-    // The next job, if it comes soon, without a wake-up (thread_pool.hpp). The loop's wait
-    // looks at the queue before it sleeps, so a job queued meanwhile is not missed.
-    const unsigned seen = queued_.load(std::memory_order_relaxed);
-    lock.unlock();
-    spin_while(kWorkerSpin, [&] { return queued_.load(std::memory_order_relaxed) == seen; });
-    lock.lock();
+    // With no job waiting, the next one, if it comes soon, without a wake-up (thread_pool.hpp).
+    // The loop's wait looks at the queue before it sleeps, so a job queued meanwhile is not missed.
+    if (!stopping_ && find_job() == nullptr) {
+      const unsigned seen = queued_.load(std::memory_order_relaxed);
+      lock.unlock();
+      spin_while(kWorkerSpin, [&] { return queued_.load(std::memory_order_relaxed) == seen; });
+      lock.lock();
+    }
   }
 }
 
@@ -108,7 +108,7 @@ void ThreadPool::run(int count, int max_threads, Task task, void* context) noexc
   job.work(0);
   // Every index is claimed: the helpers' last tasks end soon, and a sleeping caller would wake
   // late (thread_pool.hpp).
-  spin_while(kCallerSpin, [&] { return job.working.load(std::memory_order_relaxed) != 0; });
+  spin_while(kCallerSpin, [&] { return job.helpers_active.load(std::memory_order_relaxed) != 0; });
 
   std::unique_lock<std::mutex> lock(mutex_);
   // Every index is claimed: take the job off the queue so no helper joins late, then wait for

@@ -69,10 +69,9 @@ class ThreadPool {
     std::atomic<int> next{0};  // next index to claim
     // Guarded by the pool's mutex:
     int helpers_joined = 0;
-    int helpers_active = 0;  // joined and still working: the caller waits for 0
-    // Helpers still inside work(): read without the lock by the caller's spin only (a hint; the
-    // caller's return is decided by helpers_active, under the lock).
-    std::atomic<int> working{0};
+    // Joined and still working: the caller waits for 0. Changed under the lock; atomic so that
+    // the caller's spin may read it without (its return is still decided under the lock).
+    std::atomic<int> helpers_active{0};
     Job* next_job = nullptr;
     std::condition_variable done;
 
