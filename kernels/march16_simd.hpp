@@ -175,6 +175,7 @@ constexpr int kMarchResolveChunk = 1024;  // a multiple of every set's vector le
 
 template <class Arch, class Fma, class Tally = NoFetchTally>
 void simd_march16_and_resolve(const Frame& f, int y, RowScratch& scratch) {
+  static_assert(kMarchResolveChunk % Lanes<Arch>::size == 0, "chunks of whole vectors");
   const MarchRow<Arch, Fma> march(f, scratch);
   simd_resolve_in_chunks<Arch, Fma, Tally>(
       f, y, scratch, StoredSearch<Arch>{scratch.source_x.data(), scratch.clipped.data()}, kMarchResolveChunk,

@@ -166,7 +166,7 @@ struct StoredSearch {
 // the row), done here, or handed to resolve_vector. For plain lanes resolve_vector computes the same:
 // nothing is outside, so xs = x, the clamp leaves x, a clipped lane is never a hole, a hole's columns both
 // become its fill column at weight 0 (FillingFetch), no lane is masked or black, and the status is hit (0),
-// hole (1) or clipped (3). (Out of line, one call per row: so that each path's loop is a function of its
+// hole (1) or clipped (3). (Out of line, one call per row or chunk of one: so that each path's loop is a function of its
 // own in profiles and instruction counts, bench/instruction_count.py, whatever the compiler would inline.)
 template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally, class Search>
 REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int begin, int end, Tally& tally, Search search) {
