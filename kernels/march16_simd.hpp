@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 #include <type_traits>
+#include <utility>
 
 #include "kernels/resolve_simd.hpp"
 #include "kernels/search_simd.hpp"
@@ -13,10 +14,13 @@ namespace {  // one copy per arch TU (kernels/fma.hpp)
 
 // Scalar twin: search_row_march16.
 // The samples' offsets and parallaxes are the same for every pixel, so they are tabled once per
-// row. Only the row's deciding samples run (MarchRange). They run in chunks: inside a chunk,
-// backwards and branch-free (the last select is the first hit, as in the scalar early exit);
-// between chunks, an early exit once every lane has hit.
+// row. Only the row's deciding samples run (MarchRange), backwards and branch-free (the last
+// select is the first hit, as in the scalar early exit). Up to kSamplesInRegisters of them (every
+// row of the default 16 steps) run as one unrolled sequence whose rays and rows stay in registers
+// across the row's vectors; more run in chunks, with an early exit between chunks once every lane
+// has hit.
 
+constexpr int kSamplesInRegisters = 17;  // the default Options::march_steps, 16, and its far end
 constexpr int kMarchChunk = 16;
 constexpr int kMarchGroup = 4;  // a chunk runs a whole number of groups of samples: unrolled
 constexpr int kMaxMarchSamples = 1025;  // Options::march_steps <= 1024
@@ -68,11 +72,62 @@ MarchRange march_range(const Frame& f, const RowScratch& scratch, const float* s
   return {first, std::min(end + 1, samples)};
 }
 
+// The vectors of target pixels [t_begin, t_end) of a row whose deciding samples are
+// [first, first + sizeof...(K)), at most kSamplesInRegisters: every lane's first hit among them,
+// or p_far, as the chunks of simd_march16_vectors compute, the samples' rays and rows held in
+// registers across the vectors (the chunks read them from the tables at each vector: the stores
+// may alias them). The selects start from p_far instead of NaN: the same value, no sample is NaN.
+template <class Arch, bool Positive, int... K>
+void simd_march16_in_registers(const Frame& f, RowScratch& scratch, const int* sample_offset,
+                               const float* sample_parallax, int first, int t_begin, int t_end,
+                               std::integer_sequence<int, K...>) {
+  REPROJECT_LANE_TYPES(Arch);
+  constexpr int kCount = sizeof...(K);
+  const float* row0 = scratch.parallax + f.guard;  // lane t's samples: row0 + t + sample_offset[k]
+  float* source_x = scratch.source_x.data();
+  float* clipped = scratch.clipped.data();
+  // Clipped: s * p > key_near with s = +-1, i.e. p > key_near or p < -key_near (exact negations).
+  const F clip_limit(Positive ? f.key_near : -f.key_near), p_far(f.p_far), step(static_cast<float>(L));
+  const float* const nearest_row = row0 + sample_offset[0];
+  const float* const sample_row[kCount] = {row0 + sample_offset[first + K]...};
+  const F ray[kCount] = {F(sample_parallax[first + K])...};
+  F target = F(static_cast<float>(f.guard + t_begin)) + lane_offsets<Arch>();  // t + guard: exact small integers
+  for (int t = t_begin; t < t_end; t += L) {
+    const F nearest = F::load_unaligned(nearest_row + t);
+    store_flags<Arch>(Positive ? nearest > clip_limit : nearest < clip_limit, clipped + t);
+    F hit = p_far;
+    auto sample = [&](int k) {
+      const F surface = F::load_unaligned(sample_row[k] + t);
+      hit = xsimd::select(Positive ? surface >= ray[k] : surface <= ray[k], surface, hit);
+    };
+    (sample(kCount - 1 - K), ...);  // backwards
+    (target - hit).store_unaligned(source_x + t);
+    target = target + step;
+  }
+}
+
+// Calls march(std::make_integer_sequence<int, count>{}), count in [N, kSamplesInRegisters]: one
+// unrolled body per count.
+template <int N = 1, class March>
+void with_sample_count(int count, const March& march) {
+  if constexpr (N < kSamplesInRegisters) {
+    if (count != N) return with_sample_count<N + 1>(count, march);
+  }
+  march(std::make_integer_sequence<int, N>{});
+}
+
 // The vectors of target pixels [t_begin, t_end) (whole vectors: t_begin and t_end multiples of
 // L), the row's samples tabled and its range found (MarchRow).
 template <class Arch, class Fma, bool Positive>
 void simd_march16_vectors(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax,
                           MarchRange range, int t_begin, int t_end) {
+  const int count = range.end - range.first;
+  if (count >= 1 && count <= kSamplesInRegisters) {
+    return with_sample_count(count, [&](auto samples) {
+      simd_march16_in_registers<Arch, Positive>(f, scratch, sample_offset, sample_parallax, range.first, t_begin, t_end,
+                                                samples);
+    });
+  }
   REPROJECT_LANE_TYPES(Arch);
   // Locals, not f's or scratch's fields: the stores below go through float pointers, which may
   // alias them, so fields would be reloaded after each store.
