@@ -107,23 +107,23 @@ REPROJECT_NOINLINE void resolve_vector(const RowContext<Arch>& row, int t, Tally
 // does. A functor so that it can be forced inline: GCC kept an equivalent lambda out of line, and
 // the call per vector passed its vector arguments through memory (docs/PERFORMANCE.md, "Measured
 // design choices").
-template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally>
+template <ColorPath Path, bool WithDepth, class Arch, class Fma, class Tally, class Search>
 struct WriteHits {
   using F = typename Lanes<Arch>::F;
   using B = typename Lanes<Arch>::B;
   const RowContext<Arch>& row;
   Tally& tally;
+  const Search& search;  // the vector's clipped flags, asked for only at a wall (most vectors have none)
   int t;
   F j0, frac;
-  B clipped;
   B& holes;
 
   template <class Fetch>
   REPROJECT_ALWAYS_INLINE bool operator()(const Fetch& fetch) const {
     F p0, p1;
     fetch(row.parallax, p0, p1);
-    const B hole = ((p1 - p0) > row.tau) & ~clipped;  // a wall: the lane is a hole
-    const bool any_hole = xsimd::any(hole);
+    const B wall = (p1 - p0) > row.tau;  // a lane at a wall is a hole unless clipped
+    const bool any_hole = xsimd::any(wall) && xsimd::any(wall & ~search.clipped(t));
     if (any_hole && !row.holes_written) return false;
     tally.add(static_cast<int>(Fetch::mode));
     prefetch_next_row<Path>(row, t);
@@ -133,6 +133,7 @@ struct WriteHits {
       write(fetch, first, second, weight);
       return true;
     }
+    const B hole = wall & ~search.clipped(t);
     const B fill_second = move_holes_to_fill<Arch>(row, p0, p1, hole, first, second, weight);
     write(FillingFetch<Arch, Fetch>{fetch, hole, fill_second}, first, second, weight);
     holes = hole;
@@ -150,7 +151,8 @@ struct WriteHits {
 // Where the hit loop takes each vector's x and clipped flags from: the rows the search stage
 // wrote into the scratch (StoredSearch), or, for `single`, computed in the loop (SingleProbe,
 // kernels/single_simd.hpp: no pass of its own, no stores and loads between the stages). A policy
-// gives x(t), then clipped(t); keep(t, x, clipped) before a vector goes to resolve_vector (which
+// gives x(t), then clipped(t) as often as asked (none when the vector has no wall and no status is
+// written: most vectors); keep(t, x, clipped) before a vector goes to resolve_vector (which
 // reads the scratch); next() after every vector, in order.
 template <class Arch>
 struct StoredSearch {
@@ -188,19 +190,18 @@ REPROJECT_NOINLINE void resolve_hits(const RowContext<Arch>& whole_row, int begi
       resolve_vector<Path, Arch, Fma>(whole_row, t, tally);
       continue;
     }
-    const B clipped = search.clipped(t);
     const F j0 = vfloor(x);
     const F frac = x - j0;
     B holes;
     if (!columns.plan_next_and_visit(j0, row.last,
-                                     WriteHits<Path, WithDepth, Arch, Fma, Tally>{row, tally, t, j0, frac, clipped, holes})) {
-      search.keep(t, x, clipped);
+                                     WriteHits<Path, WithDepth, Arch, Fma, Tally, Search>{row, tally, search, t, j0, frac, holes})) {
+      search.keep(t, x, search.clipped(t));
       resolve_vector<Path, Arch, Fma>(whole_row, t, tally);
       continue;
     }
     if (!extras) continue;
     if (row.status_out) {
-      store_bytes<Arch>(xsimd::select(clipped, F(3.0f), xsimd::select(holes, F(1.0f), zero)), row.status_out + t);
+      store_bytes<Arch>(xsimd::select(search.clipped(t), F(3.0f), xsimd::select(holes, F(1.0f), zero)), row.status_out + t);
     }
     if (row.x_out) x.store_unaligned(row.x_out + t);
   }
