@@ -15,10 +15,10 @@ namespace {  // one copy per arch TU (kernels/fma.hpp)
 // Scalar twin: search_row_march16.
 // The samples' offsets and parallaxes are the same for every pixel, so they are tabled once per
 // row. Only the row's deciding samples run (MarchRange), backwards and branch-free (the last
-// select is the first hit, as in the scalar early exit). Up to kSamplesInRegisters of them (every
-// row of the default 16 steps) run as one unrolled sequence whose rays and rows stay in registers
-// across the row's vectors; more run in chunks, with an early exit between chunks once every lane
-// has hit.
+// select is the first hit, as in the scalar early exit). One to kSamplesInRegisters of them
+// (every row of the default 16 steps that has any) run as one unrolled sequence whose rays and
+// rows stay in registers across the row's vectors; more run in chunks, with an early exit between
+// chunks once every lane has hit.
 
 constexpr int kSamplesInRegisters = 17;  // the default Options::march_steps, 16, and its far end
 constexpr int kMarchChunk = 16;
@@ -106,8 +106,8 @@ void simd_march16_in_registers(const Frame& f, RowScratch& scratch, const int* s
   }
 }
 
-// Calls march(std::make_integer_sequence<int, count>{}), count in [N, kSamplesInRegisters]: one
-// unrolled body per count.
+// Calls march(std::make_integer_sequence<int, count>{}): one unrolled body per count. The caller
+// keeps count in [N, kSamplesInRegisters] (a count above it would run the last body).
 template <int N = 1, class March>
 void with_sample_count(int count, const March& march) {
   if constexpr (N < kSamplesInRegisters) {
@@ -121,9 +121,9 @@ void with_sample_count(int count, const March& march) {
 template <class Arch, class Fma, bool Positive>
 void simd_march16_vectors(const Frame& f, RowScratch& scratch, const int* sample_offset, const float* sample_parallax,
                           MarchRange range, int t_begin, int t_end) {
-  const int count = range.end - range.first;
-  if (count >= 1 && count <= kSamplesInRegisters) {
-    return with_sample_count(count, [&](auto samples) {
+  const int deciding = range.end - range.first;
+  if (deciding >= 1 && deciding <= kSamplesInRegisters) {
+    return with_sample_count(deciding, [&](auto samples) {
       simd_march16_in_registers<Arch, Positive>(f, scratch, sample_offset, sample_parallax, range.first, t_begin, t_end,
                                                 samples);
     });

@@ -151,9 +151,9 @@ struct WriteHits {
 // Where the hit loop takes each vector's x and clipped flags from: the rows the search stage
 // wrote into the scratch (StoredSearch), or, for `single`, computed in the loop (SingleProbe,
 // kernels/single_simd.hpp: no pass of its own, no stores and loads between the stages). A policy
-// gives x(t), then clipped(t) as often as asked (none when the vector has no wall and no status is
-// written: most vectors); keep(t, x, clipped) before a vector goes to resolve_vector (which
-// reads the scratch); next() after every vector, in order.
+// gives x(t), then clipped(t) as often as asked (not at all for a vector with no wall that stays in
+// the hit loop and writes no status: most vectors); keep(t, x, clipped) before a vector goes to
+// resolve_vector (which reads the scratch); next() after every vector, in order.
 template <class Arch>
 struct StoredSearch {
   const float* source_x;

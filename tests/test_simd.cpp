@@ -185,7 +185,8 @@ TEST_P(SimdMatchesScalar, BitIdenticalEverywhere) {
             options.threads = 1;  // the fetch-mode counts are the calling thread's
             if (c.clip) options.max_negative_parallax = 1.5f;
             if (m == static_cast<int>(Method::secant) && variant % 2 == 1) options.secant_max_steps = 3;  // coarse steps + refinement
-            // march16's samples run in chunks of 16: one sample, several chunks and a partial one.
+            // march16's rows of 1 to 17 deciding samples run unrolled, longer ones in chunks of 16:
+            // one step (two samples), the default 16, and 40 (rows of more than 17 samples: chunks).
             if (m == static_cast<int>(Method::march16) && variant % 4 == 1) options.march_steps = 40;
             if (m == static_cast<int>(Method::march16) && variant % 4 == 3) options.march_steps = 1;
             Out expected, got, got_counted;
