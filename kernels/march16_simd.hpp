@@ -72,6 +72,19 @@ MarchRange march_range(const Frame& f, const RowScratch& scratch, const float* s
   return {first, std::min(end + 1, samples)};
 }
 
+// The march's two tests of a lane, on keys s * p with s = +-1 (Positive: s = +1) but without the
+// multiplies by s (exact anyway, and a negation is exact): a surface on or behind a ray's sample,
+// s * surface >= s * ray; and clipped, s * p > key_near, i.e. p > key_near or p < -key_near.
+template <class Arch, bool Positive>
+struct MarchTests {
+  using F = typename Lanes<Arch>::F;
+  using B = typename Lanes<Arch>::B;
+  F clip_limit;
+  explicit MarchTests(const Frame& f) : clip_limit(Positive ? f.key_near : -f.key_near) {}
+  static B on_or_behind(const F& surface, const F& ray) { return Positive ? surface >= ray : surface <= ray; }
+  B clipped(const F& p) const { return Positive ? p > clip_limit : p < clip_limit; }
+};
+
 // The vectors of target pixels [t_begin, t_end) of a row whose deciding samples are
 // [first, first + sizeof...(K)), at most kSamplesInRegisters: every lane's first hit among them,
 // or p_far, as the chunks of simd_march16_vectors compute, the samples' rays and rows held in
@@ -86,19 +99,18 @@ void simd_march16_in_registers(const Frame& f, RowScratch& scratch, const int* s
   const float* row0 = scratch.parallax + f.guard;  // lane t's samples: row0 + t + sample_offset[k]
   float* source_x = scratch.source_x.data();
   float* clipped = scratch.clipped.data();
-  // Clipped: s * p > key_near with s = +-1, i.e. p > key_near or p < -key_near (exact negations).
-  const F clip_limit(Positive ? f.key_near : -f.key_near), p_far(f.p_far), step(static_cast<float>(L));
+  const MarchTests<Arch, Positive> tests(f);
+  const F p_far(f.p_far), step(static_cast<float>(L));
   const float* const nearest_row = row0 + sample_offset[0];
   const float* const sample_row[kCount] = {row0 + sample_offset[first + K]...};
   const F ray[kCount] = {F(sample_parallax[first + K])...};
   F target = F(static_cast<float>(f.guard + t_begin)) + lane_offsets<Arch>();  // t + guard: exact small integers
   for (int t = t_begin; t < t_end; t += L) {
-    const F nearest = F::load_unaligned(nearest_row + t);
-    store_flags<Arch>(Positive ? nearest > clip_limit : nearest < clip_limit, clipped + t);
+    store_flags<Arch>(tests.clipped(F::load_unaligned(nearest_row + t)), clipped + t);
     F hit = p_far;
     auto sample = [&](int k) {
       const F surface = F::load_unaligned(sample_row[k] + t);
-      hit = xsimd::select(Positive ? surface >= ray[k] : surface <= ray[k], surface, hit);
+      hit = xsimd::select(tests.on_or_behind(surface, ray[k]), surface, hit);
     };
     (sample(kCount - 1 - K), ...);  // backwards
     (target - hit).store_unaligned(source_x + t);
@@ -134,13 +146,9 @@ void simd_march16_vectors(const Frame& f, RowScratch& scratch, const int* sample
   const float* row0 = scratch.parallax + f.guard;  // lane t's samples: row0 + t + sample_offset[k]
   float* source_x = scratch.source_x.data();
   float* clipped = scratch.clipped.data();
-  const F key_near(f.key_near), s(f.s), p_far(f.p_far), step(static_cast<float>(L));
+  const MarchTests<Arch, Positive> tests(f);
+  const F p_far(f.p_far), step(static_cast<float>(L));
   const F nan(std::numeric_limits<float>::quiet_NaN());
-  // s * surface >= s * p without the multiplies (s is +-1, so they are exact anyway).
-  auto on_or_behind = [](const F& surface, float ray_parallax) {
-    if constexpr (Positive) return surface >= F(ray_parallax);
-    else return surface <= F(ray_parallax);
-  };
   // The parallax of the first of samples [first, first + count) on or behind the surface, NaN if
   // none (decoded parallax is never NaN): backwards and branch-free, so the last select is the
   // first hit, as in the scalar early exit. count is constant: unrolled.
@@ -151,7 +159,7 @@ void simd_march16_vectors(const Frame& f, RowScratch& scratch, const int* sample
     for (int k = count - 1; k >= 0; --k) {
       // The k-th sample of every lane is at the same offset: one contiguous load.
       const F surface = F::load_unaligned(row + offset[k]);
-      hit = xsimd::select(on_or_behind(surface, ray[k]), surface, hit);
+      hit = xsimd::select(tests.on_or_behind(surface, F(ray[k])), surface, hit);
     }
     return hit;
   };
@@ -170,7 +178,7 @@ void simd_march16_vectors(const Frame& f, RowScratch& scratch, const int* sample
   F target = F(static_cast<float>(f.guard + t_begin)) + lane_offsets<Arch>();  // t + guard: exact small integers
   for (int t = t_begin; t < t_end; t += L) {
     const float* row = row0 + t;
-    store_flags<Arch>(s * F::load_unaligned(row + sample_offset[0]) > key_near, clipped + t);
+    store_flags<Arch>(tests.clipped(F::load_unaligned(row + sample_offset[0])), clipped + t);
     // The parallax of the first sample on or behind the surface; no hit: the far end.
     F hit_parallax = p_far;
     B done(false);

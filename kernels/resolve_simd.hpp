@@ -123,7 +123,12 @@ struct WriteHits {
     F p0, p1;
     fetch(row.parallax, p0, p1);
     const B wall = (p1 - p0) > row.tau;  // a lane at a wall is a hole unless clipped
-    const bool any_hole = xsimd::any(wall) && xsimd::any(wall & ~search.clipped(t));
+    B hole(false);
+    bool any_hole = false;
+    if (xsimd::any(wall)) {
+      hole = wall & ~search.clipped(t);
+      any_hole = xsimd::any(hole);
+    }
     if (any_hole && !row.holes_written) return false;
     tally.add(static_cast<int>(Fetch::mode));
     prefetch_next_row<Path>(row, t);
@@ -133,7 +138,6 @@ struct WriteHits {
       write(fetch, first, second, weight);
       return true;
     }
-    const B hole = wall & ~search.clipped(t);
     const B fill_second = move_holes_to_fill<Arch>(row, p0, p1, hole, first, second, weight);
     write(FillingFetch<Arch, Fetch>{fetch, hole, fill_second}, first, second, weight);
     holes = hole;
